@@ -1,0 +1,32 @@
+# Set-up on a machine with nothing but Python 3: `make demo` or `make test`.
+# Both create .venv on first use and install the package with ROS 2 Jazzy from PyPI wheels.
+
+SHELL := /bin/bash
+VENV := .venv
+PYTHON := $(VENV)/bin/python
+PIP := $(PYTHON) -m pip --disable-pip-version-check
+
+# DDS stays on loopback, in a domain of this run's own (tests pick their own per session).
+export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
+export ROS_STATIC_PEERS :=
+export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
+
+.PHONY: demo test install clean
+
+demo: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
+
+test: install
+	$(PYTHON) -m pytest
+
+install: $(VENV)/.dependencies
+	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
+
+$(VENV)/.dependencies: requirements/ros-jazzy.txt requirements/test.txt setup.py
+	test -x $(PYTHON) || python3 -m venv $(VENV)
+	$(PIP) install --quiet --upgrade pip setuptools wheel 2> >(grep -v 'is ignored' >&2)
+	$(PIP) install --quiet -r requirements/test.txt . 2> >(grep -v 'is ignored' >&2)
+	touch $@
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -1,0 +1,36 @@
+"""Build and install simple_robot_control (ament_python; also installable with pip)."""
+
+from glob import glob
+
+from setuptools import find_packages, setup
+
+PACKAGE_NAME = 'simple_robot_control'
+SHARE = f'share/{PACKAGE_NAME}'
+
+setup(
+    name=PACKAGE_NAME,
+    version='0.1.0',
+    packages=find_packages(include=['stdr_lite', 'stdr_lite.*',
+                                    'waypoint_controller', 'waypoint_controller.*']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
+        (SHARE, ['package.xml']),
+        (f'{SHARE}/maps', sorted(glob('maps/*.yaml') + glob('maps/*.pgm'))),
+        (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
+        (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
+    ],
+    python_requires='>=3.10',
+    install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow'],
+    zip_safe=True,
+    maintainer='simple_robot_control maintainers',
+    maintainer_email='maintainers@simple-robot-control.org',
+    description='A small STDR-equivalent simulator and a PID waypoint controller for ROS 2.',
+    license='Apache-2.0',
+    extras_require={'test': ['pytest', 'hypothesis']},
+    entry_points={
+        'console_scripts': [
+            'stdr_lite = stdr_lite.simulator_node:main',
+            'move_robot = stdr_lite.move_robot:main',
+        ],
+    },
+)

@@ -1,0 +1,85 @@
+"""
+Exact footprint-versus-grid checks for circular robots.
+
+A circle touches an occupied cell when its centre is closer than its radius to the cell's
+square. A precomputed mask marks the cells where no circle of the largest radius can touch
+anything, so robots in open space cost one lookup and only robots near a wall pay for the
+exact check against the cells around them. Everything outside the map counts as occupied.
+"""
+
+import math
+
+import numpy as np
+
+
+class FootprintChecker:
+    """Answers whether circles at given positions touch an occupied cell or leave the map."""
+
+    def __init__(self, occupancy_map, max_radius):
+        if max_radius <= 0.0:
+            raise ValueError(f'robot radius must be positive, got {max_radius}')
+        self.resolution = occupancy_map.resolution
+        self.max_radius = float(max_radius)
+        origin_x, origin_y, yaw = occupancy_map.origin
+        self._origin = (origin_x, origin_y)
+        self._cos_yaw, self._sin_yaw = math.cos(yaw), math.sin(yaw)
+        self._height, self._width = occupancy_map.occupied.shape
+        self._reach = math.ceil(self.max_radius / self.resolution)
+        self._padded = np.pad(occupancy_map.occupied, self._reach, constant_values=True)
+        steps = np.arange(-self._reach, self._reach + 1)
+        rows, cols = np.meshgrid(steps, steps, indexing='ij')
+        self._window_rows, self._window_cols = rows.ravel(), cols.ravel()
+        self._near_obstacle = self._cells_within_reach_of_obstacles()
+
+    def _cells_within_reach_of_obstacles(self):
+        """Mark cells from which some point could lie within max_radius of an occupied cell."""
+        reach = self._reach
+        near = np.zeros((self._height, self._width), dtype=bool)
+        for row_step, col_step in zip(self._window_rows, self._window_cols):
+            gap = self.resolution * math.hypot(max(abs(row_step) - 1, 0),
+                                               max(abs(col_step) - 1, 0))
+            if gap < self.max_radius:
+                near |= self._padded[reach + row_step:reach + row_step + self._height,
+                                     reach + col_step:reach + col_step + self._width]
+        return near
+
+    def to_map_frame(self, x, y):
+        """Express world coordinates in the frame of the map's lower-left corner."""
+        dx = np.asarray(x, dtype=float) - self._origin[0]
+        dy = np.asarray(y, dtype=float) - self._origin[1]
+        return (self._cos_yaw * dx + self._sin_yaw * dy,
+                -self._sin_yaw * dx + self._cos_yaw * dy)
+
+    def touches(self, x, y, radius):
+        """
+        Return a boolean array: does the circle at (x, y) touch an occupied cell or the outside.
+
+        x, y and radius broadcast together; each radius must not exceed max_radius.
+        """
+        map_x, map_y = self.to_map_frame(x, y)
+        map_x, map_y, radius = np.broadcast_arrays(map_x, map_y, np.asarray(radius, dtype=float))
+        shape = map_x.shape
+        map_x, map_y, radius = map_x.ravel(), map_y.ravel(), radius.ravel()
+        cols = np.floor(map_x / self.resolution).astype(np.int64)
+        rows = np.floor(map_y / self.resolution).astype(np.int64)
+        inside = (rows >= 0) & (rows < self._height) & (cols >= 0) & (cols < self._width)
+        result = ~inside
+        candidates = np.flatnonzero(inside)
+        candidates = candidates[self._near_obstacle[rows[candidates], cols[candidates]]]
+        if candidates.size:
+            result[candidates] = self._touches_exactly(
+                map_x[candidates], map_y[candidates], rows[candidates], cols[candidates],
+                radius[candidates])
+        return result.reshape(shape)
+
+    def _touches_exactly(self, map_x, map_y, rows, cols, radius):
+        cell_rows = rows[:, None] + self._window_rows[None, :]
+        cell_cols = cols[:, None] + self._window_cols[None, :]
+        occupied = self._padded[cell_rows + self._reach, cell_cols + self._reach]
+        half = 0.5 * self.resolution
+        centre_x = (cell_cols + 0.5) * self.resolution
+        centre_y = (cell_rows + 0.5) * self.resolution
+        gap_x = np.maximum(np.abs(map_x[:, None] - centre_x) - half, 0.0)
+        gap_y = np.maximum(np.abs(map_y[:, None] - centre_y) - half, 0.0)
+        close = gap_x ** 2 + gap_y ** 2 < (radius ** 2)[:, None]
+        return np.any(occupied & close, axis=1)

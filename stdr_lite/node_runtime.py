@@ -1,0 +1,109 @@
+"""What every executable of this package shares: parameters, command line, and main()."""
+
+import argparse
+from dataclasses import dataclass
+import signal
+import sys
+
+from rcl_interfaces.msg import ParameterDescriptor, ParameterType
+import rclpy
+from rclpy.exceptions import InvalidParameterTypeException, ParameterException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_BAD_INPUT = 2
+
+_TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
+          float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING,
+          list: ParameterType.PARAMETER_DOUBLE_ARRAY}
+
+
+class ConfigError(Exception):
+    """A configuration problem reported as one line, ending the program with exit code 2."""
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One node parameter: its default, a description with units, and its constraints."""
+
+    name: str
+    default: object
+    description: str
+    constraints: str = ''
+    read_only: bool = True
+
+    def descriptor(self):
+        return ParameterDescriptor(name=self.name, type=_TYPES[type(self.default)],
+                                   description=self.description,
+                                   additional_constraints=self.constraints,
+                                   read_only=self.read_only)
+
+    def help_line(self):
+        default = self.default if self.default != '' else "''"
+        constraints = f' ({self.constraints})' if self.constraints else ''
+        return f'  {self.name} [default {default}]: {self.description}{constraints}'
+
+
+def declare_parameters(node, specs):
+    """Declare specs on node and return their values by name; bad overrides are ConfigErrors."""
+    values = {}
+    for spec in specs:
+        try:
+            node.declare_parameter(spec.name, spec.default, spec.descriptor())
+        except InvalidParameterTypeException as error:
+            hint = ' (write a double with a decimal point, e.g. 50.0)' if isinstance(
+                spec.default, float) else ''
+            raise ConfigError(f'parameter {spec.name}: {error}{hint}') from None
+        except ParameterException as error:
+            raise ConfigError(f'parameter {spec.name}: {error}') from None
+        value = node.get_parameter(spec.name).value
+        values[spec.name] = list(value) if isinstance(spec.default, list) else value
+    return values
+
+
+def require(condition, message):
+    """Raise ConfigError(message) unless condition holds."""
+    if not condition:
+        raise ConfigError(message)
+
+
+def build_parser(prog, description, specs):
+    """Build an argparse parser whose --help lists the node's ROS parameters."""
+    epilog = '\n'.join(['ROS parameters (set with --ros-args -p name:=value):']
+                       + [spec.help_line() for spec in specs])
+    return argparse.ArgumentParser(prog=prog, description=description, epilog=epilog,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def run(prog, parser, make_node, argv=None):
+    """
+    Parse the command line, run the node until it finishes, and return an exit code.
+
+    The node must have a `finished` future (its result is the exit code) and a `shut_down()`
+    method that runs before the node is destroyed, while it can still publish. Ctrl-C and
+    SIGTERM end the run with exit code 0 after shut_down().
+    """
+    argv = list(sys.argv if argv is None else argv)
+    options = parser.parse_args(remove_ros_args(argv)[1:])
+    signal.signal(signal.SIGTERM, signal.default_int_handler)
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    node = None
+    try:
+        node = make_node(options)
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        executor.spin_until_future_complete(node.finished)
+        return node.finished.result()
+    except ConfigError as error:
+        print(f'{prog}: error: {error}', file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except (KeyboardInterrupt, ExternalShutdownException):
+        return EXIT_OK
+    finally:
+        if node is not None:
+            node.shut_down()
+            node.destroy_node()
+        rclpy.try_shutdown()

@@ -1,0 +1,25 @@
+"""Locate the files this package installs (maps, waypoint courses, launch files)."""
+
+import os
+import sys
+
+PACKAGE_NAME = 'simple_robot_control'
+
+
+def share_directory():
+    """
+    Return the package's share directory.
+
+    A colcon build or a ROS installation registers it in the ament index; a pip install into
+    a virtual environment puts it under the environment's prefix.
+    """
+    try:
+        from ament_index_python.packages import get_package_share_directory
+        return get_package_share_directory(PACKAGE_NAME)
+    except (ImportError, LookupError, OSError):
+        return os.path.join(sys.prefix, 'share', PACKAGE_NAME)
+
+
+def shared_file(*parts):
+    """Path of a file under the share directory."""
+    return os.path.join(share_directory(), *parts)

@@ -1,0 +1,141 @@
+"""The stdr_lite node in-process: commands in, odometry, map and clock out."""
+
+import math
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import OccupancyGrid, Odometry
+import pytest
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.time import Time
+from ros_helpers import overrides, spin_until, wait_for_subscribers
+from rosgraph_msgs.msg import Clock
+
+from stdr_lite.node_runtime import ConfigError
+from stdr_lite.pose import yaw_from_quaternion
+from stdr_lite.simulator_node import StdrLite
+
+
+class Probe(Node):
+    """Commands robot0 and records what the simulator publishes."""
+
+    def __init__(self, context):
+        super().__init__('probe', context=context)
+        self.odometry = []
+        self.clock = []
+        self.cmd_vel = self.create_publisher(Twist, '/robot0/cmd_vel', 10)
+        self.create_subscription(Odometry, '/robot0/odom', self.odometry.append, 100)
+        self.create_subscription(Clock, '/clock', self.clock.append, 100)
+
+    def command(self, executor, linear, angular=0.0):
+        wait_for_subscribers(executor, self.cmd_vel)
+        message = Twist()
+        message.linear.x, message.angular.z = linear, angular
+        self.cmd_vel.publish(message)
+
+    def applied(self, linear, angular=0.0):
+        return [odometry for odometry in self.odometry
+                if odometry.twist.twist.linear.x == linear
+                and odometry.twist.twist.angular.z == angular]
+
+
+def start(ros_context, executor, **params):
+    params.setdefault('real_time_factor', 0.0)
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(**params))
+    probe = Probe(ros_context)
+    executor.add_node(simulator)
+    executor.add_node(probe)
+    return simulator, probe
+
+
+def consecutive(messages):
+    stamps = [Time.from_msg(message.header.stamp).nanoseconds for message in messages]
+    return [(a, b) for a, b, ta, tb in zip(messages, messages[1:], stamps, stamps[1:])
+            if tb - ta == 20_000_000]
+
+
+def test_twist_moves_the_robot_by_equation_2_each_step(ros_context, executor):
+    _, probe = start(ros_context, executor, initial_pose=[2.0, 3.0, 0.5])
+    probe.command(executor, 0.8, 0.3)
+    spin_until(executor, lambda: len(consecutive(probe.applied(0.8, 0.3))) >= 5,
+               what='odometry with the command applied')
+    for before, after in consecutive(probe.applied(0.8, 0.3)):
+        theta = yaw_from_quaternion(before.pose.pose.orientation)
+        dx = after.pose.pose.position.x - before.pose.pose.position.x
+        dy = after.pose.pose.position.y - before.pose.pose.position.y
+        assert (dx, dy) == pytest.approx((0.016 * math.cos(theta), 0.016 * math.sin(theta)))
+        assert yaw_from_quaternion(after.pose.pose.orientation) == pytest.approx(theta + 0.006)
+    first = probe.odometry[0]
+    assert (first.header.frame_id, first.child_frame_id) == ('odom', 'base_link')
+
+
+def test_speeds_are_clamped_to_the_limits(ros_context, executor):
+    _, probe = start(ros_context, executor, max_linear_speed=0.5, max_angular_speed=1.0)
+    probe.command(executor, 10.0, -10.0)
+    spin_until(executor, lambda: probe.applied(0.5, -1.0), what='clamped command')
+
+
+def test_non_finite_command_is_ignored(ros_context, executor):
+    _, probe = start(ros_context, executor)
+    probe.command(executor, 0.4)
+    spin_until(executor, lambda: probe.applied(0.4), what='first command')
+    probe.command(executor, math.nan, 0.2)
+    probe.command(executor, 0.0, 0.1)
+    spin_until(executor, lambda: probe.applied(0.0, 0.1), what='the command after NaN')
+    index = probe.odometry.index(probe.applied(0.0, 0.1)[0])
+    before = probe.odometry[:index]
+    assert all(odometry.twist.twist.linear.x == 0.4 for odometry in before[-3:])
+    assert all(math.isfinite(odometry.pose.pose.position.x) for odometry in probe.odometry)
+
+
+def test_stale_command_times_out(ros_context, executor):
+    _, probe = start(ros_context, executor, cmd_vel_timeout=0.2)
+    probe.command(executor, 0.4)
+    spin_until(executor, lambda: probe.applied(0.4), what='the command')
+    moving = probe.applied(0.4)
+    spin_until(executor, lambda: probe.odometry[-1].twist.twist.linear.x == 0.0,
+               what='the timeout')
+    duration = (Time.from_msg(probe.odometry[-1].header.stamp)
+                - Time.from_msg(moving[0].header.stamp)).nanoseconds
+    assert 0.2e9 <= duration <= 0.24e9
+
+
+def test_clock_advances_one_step_at_a_time(ros_context, executor):
+    _, probe = start(ros_context, executor, rate_hz=40.0)
+    spin_until(executor, lambda: len(probe.clock) >= 20, what='clock messages')
+    stamps = [Time.from_msg(message.clock).nanoseconds for message in probe.clock]
+    steps = {b - a for a, b in zip(stamps, stamps[1:])}
+    assert steps <= {25_000_000 * k for k in range(1, 1000)}
+    assert stamps == sorted(stamps) and stamps[-1] > stamps[0]
+
+
+def test_late_subscriber_receives_the_map(ros_context, executor):
+    start(ros_context, executor)
+    received = []
+    late = Node('late', context=ros_context)
+    executor.add_node(late)
+    latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    late.create_subscription(OccupancyGrid, '/map', received.append, latched)
+    spin_until(executor, lambda: received, what='/map')
+    grid = received[0]
+    assert (grid.info.width, grid.info.height) == (400, 300)
+    assert grid.info.resolution == pytest.approx(0.05)
+    assert len(grid.data) == 400 * 300 and grid.data[0] == 100 and grid.data[150 * 400 + 200] == 0
+    assert grid.header.frame_id == 'map'
+
+
+@pytest.mark.parametrize('params, message', [
+    ({'map_yaml': '/nonexistent/world.yaml'}, '/nonexistent/world.yaml: cannot read map file'),
+    ({'initial_pose': [0.1, 5.0, 0.0]}, 'touches a wall'),
+    ({'initial_pose': [30.0, 5.0, 0.0]}, 'off the map'),
+    ({'initial_pose': [1.0, 2.0]}, 'initial_pose must be [x, y, theta]'),
+    ({'rate_hz': 0.0}, 'rate_hz must be positive'),
+    ({'integrator': 'rk4'}, "integrator must be one of euler, arc, got 'rk4'"),
+    ({'rate_hz': 50}, 'write a double with a decimal point'),
+])
+def test_bad_configuration_is_one_clear_error(ros_context, params, message):
+    with pytest.raises(ConfigError) as raised:
+        StdrLite(context=ros_context, parameter_overrides=overrides(**params))
+    assert message in str(raised.value)
+    assert '\n' not in str(raised.value)
