@@ -11,10 +11,16 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
 export ROS_STATIC_PEERS :=
 export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 
-.PHONY: demo test install clean
+.PHONY: demo lab-session test bench install clean
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
+
+lab-session: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/lab_session.sh
+
+bench: install
+	$(PYTHON) bench/controller.py
 
 test: install
 	$(PYTHON) -m pytest

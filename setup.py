@@ -31,6 +31,7 @@ setup(
         'console_scripts': [
             'stdr_lite = stdr_lite.simulator_node:main',
             'move_robot = stdr_lite.move_robot:main',
+            'waypoint_controller = waypoint_controller.controller_node:main',
         ],
     },
 )

@@ -88,6 +88,9 @@ def run(prog, parser, make_node, argv=None):
     """
     argv = list(sys.argv if argv is None else argv)
     options = parser.parse_args(remove_ros_args(argv)[1:])
+    # A shell starts background jobs with SIGINT ignored; ros2 launch stops nodes with SIGINT
+    # and then SIGTERM, so both must end the node cleanly whatever the parent set up.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     signal.signal(signal.SIGTERM, signal.default_int_handler)
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = None

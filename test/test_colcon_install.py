@@ -9,7 +9,7 @@ import pytest
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 PACKAGE = 'simple_robot_control'
-EXECUTABLES = ['stdr_lite', 'move_robot']
+EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller']
 
 
 @pytest.fixture(scope='module')
@@ -30,7 +30,9 @@ def test_package_is_registered_in_the_ament_index(install_tree):
     assert (prefix / 'share' / PACKAGE / 'package.xml').is_file()
     assert (prefix / 'share' / PACKAGE / 'maps/lab_room.yaml').is_file()
     assert (prefix / 'share' / PACKAGE / 'maps/lab_room.pgm').is_file()
-    assert list((prefix / 'share' / PACKAGE / 'launch').glob('*.launch.py'))
+    assert {path.name for path in (prefix / 'share' / PACKAGE / 'launch').iterdir()} >= {
+        'stdr_lite.launch.py', 'waypoints.launch.py'}
+    assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
 
 
 @pytest.mark.parametrize('name', EXECUTABLES)

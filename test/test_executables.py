@@ -1,14 +1,16 @@
 """stdr_lite and move_robot as installed executables, including the lab's own session."""
 
 import re
+import signal
+import subprocess
 
-from processes import interrupt, run, start
+from processes import executable, interrupt, run, start
 import pytest
 
 POSE_LINE = re.compile(r'Current position, x: (\S+), y: (\S+), theta: (\S+)')
 
 
-@pytest.mark.parametrize('name', ['stdr_lite', 'move_robot'])
+@pytest.mark.parametrize('name', ['stdr_lite', 'move_robot', 'waypoint_controller'])
 def test_help_lists_the_ros_parameters(name):
     result = run(name, '--help')
     assert result.returncode == 0
@@ -73,3 +75,42 @@ def test_move_robot_re_asks_after_a_bad_number(simulator):
     assert "Not a finite number: 'nan'" in session.stdout
     assert 'Must be at least 0' in session.stdout
     assert poses(session.stdout)[-1][2] == pytest.approx(45.0, abs=0.5)
+
+
+def test_simulator_stops_on_ctrl_c_even_when_its_parent_ignored_it():
+    process = subprocess.Popen([executable('stdr_lite')], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    try:
+        process.stderr.readline()
+    finally:
+        code, _, stderr = interrupt(process)
+    assert code == 0, stderr
+
+
+@pytest.mark.parametrize('text, message', [
+    ('1 2 3 4\n', 'course.txt:1: 4 numbers'),
+    ('1 2 3\n4 5 six\n', "course.txt:2: 'six' is not a number"),
+    ('', 'course.txt: no waypoints'),
+])
+def test_controller_refuses_a_bad_file_in_one_line(tmp_path, text, message):
+    course = tmp_path / 'course.txt'
+    course.write_text(text)
+    result = run('waypoint_controller', str(course))
+    assert result.returncode == 2
+    assert message in result.stderr
+    assert 'Traceback' not in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def test_controller_finishes_a_course_against_the_simulator_process(tmp_path):
+    course = tmp_path / 'course.txt'
+    course.write_text('2.5 2 0\n2.5 3 90\n')
+    simulator = start('stdr_lite', '--ros-args', '-p', 'real_time_factor:=10.0')
+    try:
+        result = run('waypoint_controller', str(course), '--ros-args', '-p', 'use_sim_time:=true',
+                     timeout=120)
+    finally:
+        interrupt(simulator)
+    assert result.returncode == 0, result.stderr
+    kinds = re.findall(r'\]: (STARTED|WAYPOINT \d|FINISHED)', result.stderr)
+    assert kinds == ['STARTED', 'WAYPOINT 1', 'WAYPOINT 2', 'FINISHED']

@@ -1,0 +1,37 @@
+"""
+Run a waypoint course in stdr_lite.
+
+ros2 launch simple_robot_control waypoints.launch.py waypoint_file:=/path/to/course.txt
+"""
+
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, EmitEvent, RegisterEventHandler
+from launch.event_handlers import OnProcessExit
+from launch.events import Shutdown
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
+
+
+def generate_launch_description():
+    controller = Node(
+        package='simple_robot_control', executable='waypoint_controller',
+        name='waypoint_controller', output='screen',
+        parameters=[{'use_sim_time': True,
+                     'waypoint_file': LaunchConfiguration('waypoint_file')}])
+    return LaunchDescription([
+        DeclareLaunchArgument('waypoint_file', default_value='',
+                              description='waypoint file; empty for the bundled lab tour'),
+        DeclareLaunchArgument('map_yaml', default_value='',
+                              description='map_server YAML; empty for the bundled lab_room'),
+        DeclareLaunchArgument('real_time_factor', default_value='1.0',
+                              description='simulated seconds per wall second'),
+        Node(package='simple_robot_control', executable='stdr_lite', name='stdr_lite',
+             output='screen',
+             parameters=[{'map_yaml': LaunchConfiguration('map_yaml'),
+                          'real_time_factor': ParameterValue(
+                              LaunchConfiguration('real_time_factor'), value_type=float)}]),
+        controller,
+        RegisterEventHandler(OnProcessExit(target_action=controller,
+                                           on_exit=[EmitEvent(event=Shutdown())])),
+    ])

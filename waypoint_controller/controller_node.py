@@ -1,0 +1,172 @@
+"""The waypoint_controller node: follows a waypoint file and reports on robot_status."""
+
+import math
+import sys
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from std_msgs.msg import String
+
+from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameters, EXIT_FAILED,
+                                    EXIT_OK, ParameterSpec, require, run)
+from stdr_lite.pose import yaw_from_quaternion
+from stdr_lite.share import shared_file
+from waypoint_controller.control_law import ControllerConfig, CourseFollower, wrap
+from waypoint_controller.progress import ProgressMonitor
+from waypoint_controller.status import aborted, finished, started, waypoint_reached
+from waypoint_controller.waypoints import load_waypoints, WaypointFileError
+
+DEFAULT_COURSE = 'lab_tour.txt'
+DEFAULTS = ControllerConfig()
+
+PARAMETERS = (
+    ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
+                  f'empty: the command-line argument, or else the bundled {DEFAULT_COURSE}'),
+    ParameterSpec('distance_tolerance', DEFAULTS.distance_tolerance, 'goal set radius d [m]',
+                  '> 0'),
+    ParameterSpec('angle_tolerance_deg', math.degrees(DEFAULTS.angle_tolerance),
+                  'goal set heading tolerance t [degrees, as in the lab]', '> 0'),
+    ParameterSpec('max_linear_speed', DEFAULTS.max_linear_speed, 'speed limit [m/s]', '> 0'),
+    ParameterSpec('max_angular_speed', DEFAULTS.max_angular_speed, 'turn-rate limit [rad/s]',
+                  '> 0'),
+    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of sim time]', '5 to 100'),
+    ParameterSpec('stall_timeout', 10.0, 'abort when no progress towards the current waypoint '
+                  'for this long [s of sim time]', '> 0'),
+    ParameterSpec('heading_kp', DEFAULTS.heading_kp, 'heading PID proportional gain [1/s]',
+                  '> 0'),
+    ParameterSpec('heading_ki', DEFAULTS.heading_ki, 'heading PID integral gain [1/s^2]',
+                  '>= 0'),
+    ParameterSpec('heading_kd', DEFAULTS.heading_kd, 'heading PID derivative gain [-]', '>= 0'),
+    ParameterSpec('distance_kp', DEFAULTS.distance_kp, 'distance PID proportional gain [1/s]',
+                  '> 0'),
+    ParameterSpec('distance_ki', DEFAULTS.distance_ki, 'distance PID integral gain [1/s^2]',
+                  '>= 0'),
+    ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]',
+                  '>= 0'),
+    ParameterSpec('approach_gain', DEFAULTS.approach_gain, 'how strongly the approach bends '
+                  'towards the goal heading axis [-]', '> 0'),
+)
+
+DESCRIPTION = ('waypoint_controller: drive the robot through the waypoints of WAYPOINT_FILE '
+               '(x y theta triples in m, m, degrees) and report STARTED, WAYPOINT n, FINISHED '
+               'or ABORTED on robot_status. Exit code 0 when finished, 1 when aborted, 2 for '
+               'bad input.')
+
+
+class WaypointController(Node):
+    """Reads odometry, commands velocities, and reports progress on robot_status."""
+
+    def __init__(self, waypoint_file=None, **kwargs):
+        super().__init__('waypoint_controller', **kwargs)
+        self.finished = Future()
+        params = declare_parameters(self, PARAMETERS)
+        path = self._course_path(waypoint_file, params['waypoint_file'])
+        try:
+            waypoints = load_waypoints(path)
+        except WaypointFileError as error:
+            raise ConfigError(str(error)) from None
+        rate = params['control_rate_hz']
+        require(5.0 <= rate <= 100.0, f'control_rate_hz must lie in [5, 100], got {rate}')
+        require(params['stall_timeout'] > 0.0,
+                f'stall_timeout must be positive, got {params["stall_timeout"]}')
+        config = ControllerConfig(
+            max_linear_speed=params['max_linear_speed'],
+            max_angular_speed=params['max_angular_speed'],
+            distance_tolerance=params['distance_tolerance'],
+            angle_tolerance=math.radians(params['angle_tolerance_deg']),
+            **{name: params[name] for name in ('heading_kp', 'heading_ki', 'heading_kd',
+                                               'distance_kp', 'distance_ki', 'distance_kd',
+                                               'approach_gain')})
+        try:
+            self._follower = CourseFollower(waypoints, config)
+        except ValueError as error:
+            raise ConfigError(str(error)) from None
+        self._progress = ProgressMonitor(params['stall_timeout'])
+        self._period = 1.0 / rate
+        self._pose = None
+        everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=len(waypoints) + 2,
+                                reliability=ReliabilityPolicy.RELIABLE,
+                                durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self._status_publisher = self.create_publisher(String, 'robot_status', everything)
+        self._cmd_publisher = self.create_publisher(Twist, '/robot0/cmd_vel', 10)
+        self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 10)
+        self._timer = self.create_timer(self._period, self._control_step)
+        self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
+
+    def _course_path(self, argument, parameter):
+        require(not (argument and parameter),
+                f'waypoint file given twice: argument {argument!r} and parameter '
+                f'waypoint_file {parameter!r}; give one')
+        if argument or parameter:
+            return argument or parameter
+        path = shared_file('waypoints', DEFAULT_COURSE)
+        self.get_logger().info(f'no waypoint file given: following the bundled {DEFAULT_COURSE}')
+        return path
+
+    def _on_odometry(self, message):
+        if self.finished.done():
+            return
+        pose = message.pose.pose
+        first = self._pose is None
+        self._pose = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+        if first:
+            self._report(started(self._pose))
+            self._progress.restart(self._now())
+        for index in self._follower.check(self._pose):
+            self._report(waypoint_reached(index + 1, self._pose))
+            self._progress.restart(self._now())
+        if self._follower.finished:
+            self._report(finished())
+            self._stop(EXIT_OK)
+
+    def _control_step(self):
+        if self._pose is None or self.finished.done():
+            return
+        goal = self._follower.current
+        distance = math.hypot(goal.x - self._pose[0], goal.y - self._pose[1])
+        if self._progress.stalled(self._now(), distance, wrap(goal.theta - self._pose[2])):
+            number = self._follower.next_index + 1
+            self.get_logger().error(
+                f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
+                f'unreachable: no progress for {self._progress.timeout:g} s, still '
+                f'{distance:.2f} m away')
+            self._report(aborted(number, self._pose))
+            self._stop(EXIT_FAILED)
+            return
+        step = self._follower.update(self._pose, self._period)
+        command = Twist()
+        command.linear.x, command.angular.z = step.linear, step.angular
+        self._cmd_publisher.publish(command)
+
+    def _now(self):
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _report(self, text):
+        self.get_logger().info(text)
+        self._status_publisher.publish(String(data=text))
+
+    def _stop(self, exit_code):
+        self._cmd_publisher.publish(Twist())
+        if not self.finished.done():
+            self.finished.set_result(exit_code)
+
+    def shut_down(self):
+        """Stop the robot and give late robot_status subscribers a moment to catch up."""
+        self._cmd_publisher.publish(Twist())
+        self._status_publisher.wait_for_all_acked(Duration(seconds=1.0))
+
+
+def main(argv=None):
+    parser = build_parser('waypoint_controller', DESCRIPTION, PARAMETERS)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='waypoint file; the waypoint_file parameter is the alternative')
+    sys.exit(run('waypoint_controller', parser,
+                 lambda options: WaypointController(options.waypoint_file), argv))
+
+
+if __name__ == '__main__':
+    main()
