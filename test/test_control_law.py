@@ -126,3 +126,17 @@ def test_bad_configuration_is_refused():
         PoseController(ControllerConfig(max_linear_speed=0.0))
     with pytest.raises(ValueError, match='rotate_radius'):
         PoseController(ControllerConfig(rotate_radius=0.95))
+
+
+def test_given_direction_and_gain_are_kept():
+    controller = PoseController(CONFIG)
+    controller.start((0.0, 0.0, 0.0), Waypoint(3.0, 0.0, 0.0), backward=True, approach_gain=2.0)
+    assert (controller.backward, controller.approach_gain) == (True, 2.0)
+    linear, _ = controller.command((0.0, 0.0, 0.0), 0.05)
+    assert linear == 0.0
+
+
+def test_a_goal_ahead_is_driven_to_forwards():
+    controller = PoseController(CONFIG)
+    controller.start((0.0, 0.0, 0.0), Waypoint(3.0, 0.5, 0.3))
+    assert not controller.backward

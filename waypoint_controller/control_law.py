@@ -1,10 +1,11 @@
 """
 The waypoint control law: pose in, (v, omega) out. Pure Python, no ROS.
 
-For each waypoint the law picks forward or backward travel, whichever needs less turning.
 Far from the goal a heading PID steers towards a guidance direction: the line of sight to the
 goal, bent towards the goal's heading axis so that the robot arrives already facing the goal
-heading and passes intermediate waypoints without stopping. The bend stays below 90 degrees,
+heading and passes intermediate waypoints without stopping. For each waypoint the law picks
+forward or backward travel and how strongly to bend (the approach gain) by simulating itself
+for every combination and keeping the quickest. The bend stays below 90 degrees,
 so the robot always closes in on the goal. Speed comes from a distance PID, at full speed while
 turning, capped so that the goal never falls inside the turning circle (so the robot never
 orbits it), and zero while the goal is more than 90 degrees off the direction of travel. Well
@@ -16,6 +17,20 @@ from dataclasses import dataclass
 import math
 
 from waypoint_controller.pid import PID
+
+
+APPROACH_GAINS = (0.25, 0.75, 2.0)
+PREDICTION_STEP = 0.1
+PREDICTION_HORIZON = 60.0
+
+
+def _arc(pose, linear, angular, dt):
+    """Exact constant-velocity arc step for one robot (the model the law predicts with)."""
+    x, y, theta = pose
+    half_turn = 0.5 * angular * dt
+    chord = linear * dt * (math.sin(half_turn) / half_turn if half_turn else 1.0)
+    return (x + chord * math.cos(theta + half_turn), y + chord * math.sin(theta + half_turn),
+            theta + angular * dt)
 
 
 def wrap(angle):
@@ -38,14 +53,13 @@ class ControllerConfig:
     distance_kp: float = 5.0
     distance_ki: float = 0.0
     distance_kd: float = 0.0
-    approach_gain: float = 0.75
     rotate_radius: float = 0.5
     resume_radius: float = 0.9
 
     def validate(self):
         """Raise ValueError naming the first field out of range."""
         for name in ('max_linear_speed', 'max_angular_speed', 'distance_tolerance',
-                     'angle_tolerance', 'heading_kp', 'distance_kp', 'approach_gain'):
+                     'angle_tolerance', 'heading_kp', 'distance_kp'):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f'{name} must be positive, got {getattr(self, name)}')
         for name in ('heading_ki', 'heading_kd', 'distance_ki', 'distance_kd'):
@@ -78,14 +92,45 @@ class PoseController:
         self.backward = False
         self.rotating = False
 
-    def start(self, pose, waypoint):
-        """Aim at a new waypoint from pose, choosing the quicker direction of travel."""
+    def start(self, pose, waypoint, backward=None, approach_gain=None):
+        """
+        Aim at a new waypoint from pose.
+
+        Unless given, the direction of travel and the approach gain are chosen by simulating
+        this law for each candidate and keeping the quickest.
+        """
         self.waypoint = waypoint
         self._heading_pid.reset()
         self._distance_pid.reset()
         self.rotating = False
-        self.backward = self._travel_time(pose, backward=True) < self._travel_time(
-            pose, backward=False)
+        if backward is None:
+            backward, approach_gain = self._quickest_manoeuvre(pose)
+        self.backward = backward
+        self.approach_gain = approach_gain
+
+    def _quickest_manoeuvre(self, pose):
+        candidates = sorted(((backward, gain) for backward in (False, True)
+                             for gain in APPROACH_GAINS),
+                            key=lambda candidate: self._travel_time(pose, candidate[0]))
+        best, best_time = candidates[0], math.inf
+        for backward, gain in candidates:
+            predicted = self._predict(pose, backward, gain, limit=best_time)
+            if predicted < best_time:
+                best, best_time = (backward, gain), predicted
+        return best
+
+    def _predict(self, pose, backward, gain, limit):
+        """Seconds this law would take to the goal set with these choices (inf past limit)."""
+        model = PoseController(self.config)
+        model.start(pose, self.waypoint, backward, gain)
+        elapsed = 0.0
+        while not in_goal_set(pose, self.waypoint, self.config):
+            if elapsed >= min(limit, PREDICTION_HORIZON):
+                return math.inf
+            linear, angular = model.command(pose, PREDICTION_STEP)
+            pose = _arc(pose, linear, angular, PREDICTION_STEP)
+            elapsed += PREDICTION_STEP
+        return elapsed
 
     def _travel_time(self, pose, backward):
         """Estimate the time to the waypoint: driving plus the turning it needs."""
@@ -113,7 +158,7 @@ class PoseController:
         flip = math.pi if self.backward else 0.0
         travel_heading = theta + flip
         line_of_sight = math.atan2(goal.y - y, goal.x - x)
-        lead = math.atan(config.approach_gain * wrap(line_of_sight - goal.theta - flip))
+        lead = math.atan(self.approach_gain * wrap(line_of_sight - goal.theta - flip))
         heading_error = wrap(line_of_sight + lead - travel_heading)
         angular = self._heading_pid.update(heading_error, dt,
                                            kp=min(config.heading_kp, 0.9 / dt))

@@ -5,6 +5,7 @@ import sys
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -47,8 +48,6 @@ PARAMETERS = (
                   '>= 0'),
     ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]',
                   '>= 0'),
-    ParameterSpec('approach_gain', DEFAULTS.approach_gain, 'how strongly the approach bends '
-                  'towards the goal heading axis [-]', '> 0'),
 )
 
 DESCRIPTION = ('waypoint_controller: drive the robot through the waypoints of WAYPOINT_FILE '
@@ -79,8 +78,7 @@ class WaypointController(Node):
             distance_tolerance=params['distance_tolerance'],
             angle_tolerance=math.radians(params['angle_tolerance_deg']),
             **{name: params[name] for name in ('heading_kp', 'heading_ki', 'heading_kd',
-                                               'distance_kp', 'distance_ki', 'distance_kd',
-                                               'approach_gain')})
+                                               'distance_kp', 'distance_ki', 'distance_kd')})
         try:
             self._follower = CourseFollower(waypoints, config)
         except ValueError as error:
@@ -95,6 +93,8 @@ class WaypointController(Node):
         self._cmd_publisher = self.create_publisher(Twist, '/robot0/cmd_vel', 10)
         self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 10)
         self._timer = self.create_timer(self._period, self._control_step)
+        self._odometry_watch = self.create_timer(
+            5.0, self._warn_while_waiting, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
 
     def _course_path(self, argument, parameter):
@@ -122,6 +122,12 @@ class WaypointController(Node):
         if self._follower.finished:
             self._report(finished())
             self._stop(EXIT_OK)
+
+    def _warn_while_waiting(self):
+        if self._pose is None:
+            self.get_logger().warn('waiting for odometry on /robot0/odom: is stdr_lite running?')
+        else:
+            self._odometry_watch.cancel()
 
     def _control_step(self):
         if self._pose is None or self.finished.done():
