@@ -25,7 +25,12 @@ PREDICTION_HORIZON = 60.0
 
 
 def _arc(pose, linear, angular, dt):
-    """Exact constant-velocity arc step for one robot (the model the law predicts with)."""
+    """
+    Exact constant-velocity arc step for one robot: the model the law predicts with.
+
+    Same formula as stdr_lite.kinematics.arc_step, in scalar math because a prediction takes
+    thousands of single-robot steps, where numpy's per-call cost would dominate.
+    """
     x, y, theta = pose
     half_turn = 0.5 * angular * dt
     chord = linear * dt * (math.sin(half_turn) / half_turn if half_turn else 1.0)
