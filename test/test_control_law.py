@@ -140,3 +140,10 @@ def test_a_goal_ahead_is_driven_to_forwards():
     controller = PoseController(CONFIG)
     controller.start((0.0, 0.0, 0.0), Waypoint(3.0, 0.5, 0.3))
     assert not controller.backward
+
+
+def test_errors_are_measured_to_the_current_waypoint():
+    follower = CourseFollower([Waypoint(3.0, 4.0, math.radians(170))], CONFIG)
+    distance, heading_error = follower.errors((0.0, 0.0, math.radians(-170)))
+    assert distance == pytest.approx(5.0)
+    assert heading_error == pytest.approx(math.radians(-20))

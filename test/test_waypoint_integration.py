@@ -10,6 +10,7 @@ from ros_helpers import overrides, spin_until
 from std_msgs.msg import String
 
 from stdr_lite.node_runtime import ConfigError
+from stdr_lite.pose import yaw_from_quaternion
 from stdr_lite.simulator_node import StdrLite
 from waypoint_controller.control_law import ControllerConfig, in_goal_set
 from waypoint_controller.controller_node import WaypointController
@@ -32,8 +33,8 @@ class Recorder(Node):
 
     def _on_odometry(self, message):
         pose = message.pose.pose
-        theta = 2.0 * math.atan2(pose.orientation.z, pose.orientation.w)
-        self.poses.append((pose.position.x, pose.position.y, theta))
+        self.poses.append((pose.position.x, pose.position.y,
+                           yaw_from_quaternion(pose.orientation)))
 
 
 def run_course(ros_context, executor, course_path, timeout=60.0, **controller_params):

@@ -212,6 +212,11 @@ class CourseFollower:
         """Return the waypoint being driven to, or None when finished."""
         return None if self.finished else self.waypoints[self.next_index]
 
+    def errors(self, pose):
+        """Return (distance, wrapped heading error) from pose to the current waypoint."""
+        goal = self.current
+        return (math.hypot(goal.x - pose[0], goal.y - pose[1]), wrap(goal.theta - pose[2]))
+
     def check(self, pose):
         """Advance past every waypoint whose goal set contains pose; return their indices."""
         reached = []

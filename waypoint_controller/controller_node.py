@@ -16,7 +16,7 @@ from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameter
                                     EXIT_OK, ParameterSpec, require, run)
 from stdr_lite.pose import yaw_from_quaternion
 from stdr_lite.share import shared_file
-from waypoint_controller.control_law import ControllerConfig, CourseFollower, wrap
+from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.progress import ProgressMonitor
 from waypoint_controller.status import aborted, finished, started, waypoint_reached
 from waypoint_controller.waypoints import load_waypoints, WaypointFileError
@@ -132,9 +132,9 @@ class WaypointController(Node):
     def _control_step(self):
         if self._pose is None or self.finished.done():
             return
-        goal = self._follower.current
-        distance = math.hypot(goal.x - self._pose[0], goal.y - self._pose[1])
-        if self._progress.stalled(self._now(), distance, wrap(goal.theta - self._pose[2])):
+        distance, heading_error = self._follower.errors(self._pose)
+        if self._progress.stalled(self._now(), distance, heading_error):
+            goal = self._follower.current
             number = self._follower.next_index + 1
             self.get_logger().error(
                 f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
