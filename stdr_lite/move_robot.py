@@ -6,6 +6,7 @@ import time
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
@@ -50,7 +51,11 @@ class MoveRobot(Node):
         self._cmd_publisher = self.create_publisher(Twist, f'/{params["robot_name"]}/cmd_vel',
                                                     10)
         self.create_subscription(Odometry, self._odom_topic, self._on_odometry, 10)
-        self._session_over = self.create_guard_condition(self._finish)
+        self._session_over = threading.Event()
+        # A steady timer rather than a guard condition: EventsExecutor supports no guard
+        # conditions, and the node must run on any executor.
+        self.create_timer(0.05, self._finish_when_session_over,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
         threading.Thread(target=self._session, daemon=True).start()
 
     def _on_odometry(self, message):
@@ -58,8 +63,8 @@ class MoveRobot(Node):
             self._odometry = message
             self._odometry_arrived.notify_all()
 
-    def _finish(self):
-        if not self.finished.done():
+    def _finish_when_session_over(self):
+        if self._session_over.is_set() and not self.finished.done():
             self.finished.set_result(self._exit_code)
 
     def _next_odometry(self, newer_than=None):
@@ -88,7 +93,7 @@ class MoveRobot(Node):
                                     f'{self._odom_timeout:g} s: is stdr_lite running?')
             self._exit_code = EXIT_FAILED
         finally:
-            self._session_over.trigger()
+            self._session_over.set()
 
     def _wait_for_simulator(self):
         """Wait until the simulator subscribes to our commands, so none is lost to discovery."""

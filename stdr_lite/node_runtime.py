@@ -4,17 +4,20 @@ import argparse
 from dataclasses import dataclass
 import signal
 import sys
+import threading
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
 import rclpy
 from rclpy.exceptions import InvalidParameterTypeException, ParameterException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
+from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
+SIGNAL_CHECK_PERIOD = 0.1
 
 _TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
           float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING,
@@ -88,24 +91,31 @@ def run(prog, parser, make_node, argv=None):
     """
     argv = list(sys.argv if argv is None else argv)
     options = parser.parse_args(remove_ros_args(argv)[1:])
-    # A shell starts background jobs with SIGINT ignored; ros2 launch stops nodes with SIGINT
-    # and then SIGTERM, so both must end the node cleanly whatever the parent set up.
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    signal.signal(signal.SIGTERM, signal.default_int_handler)
+    stop_requested = threading.Event()
+    # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with SIGINT
+    # then SIGTERM, so the handlers are ours whatever the parent set up. They only set a flag:
+    # Python runs them between callbacks, where raising would abort a callback half done.
+    for signal_number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signal_number, lambda *_: stop_requested.set())
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = None
+    node = executor = None
     try:
         node = make_node(options)
-        executor = SingleThreadedExecutor()
+        executor = EventsExecutor()
         executor.add_node(node)
-        executor.spin_until_future_complete(node.finished)
-        return node.finished.result()
+        # Short spins return control to Python, so a signal is seen within one of them.
+        while not (node.finished.done() or stop_requested.is_set()):
+            executor.spin_until_future_complete(node.finished, timeout_sec=SIGNAL_CHECK_PERIOD)
+        return node.finished.result() if node.finished.done() else EXIT_OK
     except ConfigError as error:
         print(f'{prog}: error: {error}', file=sys.stderr)
         return EXIT_BAD_INPUT
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except ExternalShutdownException:
         return EXIT_OK
     finally:
+        if executor is not None:
+            executor.remove_node(node)
+            executor.shutdown()
         if node is not None:
             node.shut_down()
             node.destroy_node()

@@ -1,16 +1,18 @@
 """The stdr_lite node: steps the world at a fixed rate and speaks STDR's topics."""
 
+from collections import deque
 import functools
 import math
 import sys
+import time
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
-from rclpy.time import Time
 from rosgraph_msgs.msg import Clock as ClockMsg
 
 from stdr_lite.commands import CommandBuffer
@@ -22,6 +24,10 @@ from stdr_lite.share import shared_file
 from stdr_lite.world import PlacementError, World
 
 NANOSECONDS = 1_000_000_000
+# In lockstep, odometry that has gone unanswered this long is published again (same stamp), so
+# a controller that started after it was first sent still gets it.
+LOCKSTEP_REPEAT_AFTER = 0.5
+LATENCY_SAMPLES = 100_000
 
 PARAMETERS = (
     ParameterSpec('map_yaml', '', 'map_server YAML file of the world; empty for the bundled '
@@ -32,6 +38,9 @@ PARAMETERS = (
                   'constant-velocity arc)', 'euler | arc'),
     ParameterSpec('real_time_factor', 1.0, 'simulated seconds per wall-clock second; 0 steps '
                   'as fast as the CPU allows', '>= 0'),
+    ParameterSpec('lockstep', False, 'advance only once every robot has answered its latest '
+                  'odometry with a cmd_vel, so sim time never runs ahead of the controller; '
+                  'real_time_factor is then an upper bound'),
     ParameterSpec('robot_name', 'robot0', 'robot name: topics are /<name>/cmd_vel and '
                   '/<name>/odom'),
     ParameterSpec('robot_radius', 0.2, 'radius of the circular footprint [m]', '> 0'),
@@ -55,7 +64,13 @@ DESCRIPTION = ('stdr_lite: a small STDR-equivalent simulator. Subscribes /<robot
 
 
 class StdrLite(Node):
-    """Unicycle robots in a map_server world, stepped at a fixed rate."""
+    """
+    Unicycle robots in a map_server world, stepped at a fixed rate.
+
+    Free-running, a steady-clock timer steps the world every dt / real_time_factor wall seconds
+    whether or not anyone listens. In lockstep, step k + 1 waits until each robot's cmd_vel has
+    answered odometry k, so the outcome depends on the commands alone, never on machine load.
+    """
 
     def __init__(self, **kwargs):
         super().__init__('stdr_lite', **kwargs)
@@ -68,6 +83,7 @@ class StdrLite(Node):
         self._commands = CommandBuffer(self._world.robot_count, params['max_linear_speed'],
                                        params['max_angular_speed'], params['cmd_vel_timeout'])
         self._frames = (params['odom_frame_id'], params['base_frame_id'])
+        self._applied = (np.zeros(self._world.robot_count), np.zeros(self._world.robot_count))
         self._robot_names = [params['robot_name']]
         self._odom_publishers = [self.create_publisher(Odometry, f'/{name}/odom', 10)
                                  for name in self._robot_names]
@@ -76,20 +92,36 @@ class StdrLite(Node):
                                      functools.partial(self._on_cmd_vel, index), 10)
             for index, name in enumerate(self._robot_names)]
         self._clock_publisher = self.create_publisher(ClockMsg, '/clock', 10)
+        self._clock_message = ClockMsg()
+        self._odometry_messages = [Odometry() for _ in self._robot_names]
+        for message in self._odometry_messages:
+            message.header.frame_id, message.child_frame_id = self._frames
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self._map_publisher = self.create_publisher(OccupancyGrid, '/map', latched)
         self._map_publisher.publish(self._map_message(params['map_frame_id']))
-        wall_period = 0.0
-        if params['real_time_factor'] > 0.0:
-            wall_period = self._dt_ns / NANOSECONDS / params['real_time_factor']
-        self._timer = self.create_timer(wall_period, self._step,
-                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._lockstep = params['lockstep']
+        self._unanswered = set()
+        self._published_at = 0.0
+        self.answer_latencies = deque(maxlen=LATENCY_SAMPLES)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        paced = params['real_time_factor'] > 0.0
+        if paced or not self._lockstep:
+            wall_period = 0.0
+            if paced:
+                wall_period = self._dt_ns / NANOSECONDS / params['real_time_factor']
+            self.create_timer(wall_period, self._on_tick, clock=steady)
+        self._step_on_answer = self._lockstep and not paced
+        if self._lockstep:
+            self._odometry_subscribers = 0
+            self.create_timer(0.05, self._repeat_unanswered_state, clock=steady)
+            self._publish_state()
         self.get_logger().info(
             f'{self._map_name} {self._world.map.width}x{self._world.map.height} cells, '
             f'robot {self._robot_names[0]} at {tuple(params["initial_pose"])}, '
             f'{params["rate_hz"]:g} Hz {params["integrator"]}, '
-            f'real_time_factor {params["real_time_factor"]:g}')
+            f'real_time_factor {params["real_time_factor"]:g}'
+            + (', lockstep' if self._lockstep else ''))
 
     @staticmethod
     def _validate(params):
@@ -153,33 +185,61 @@ class StdrLite(Node):
                 f'{self._robot_names[index]}: ignored cmd_vel with a non-finite component '
                 f'({linear}, {angular}); keeping the last valid command',
                 throttle_duration_sec=5.0)
+        if index in self._unanswered:
+            self._unanswered.discard(index)
+            self.answer_latencies.append(time.monotonic() - self._published_at)
+            if not self._unanswered and self._step_on_answer:
+                self._step()
+
+    def _on_tick(self):
+        if not self._unanswered:
+            self._step()
 
     def _step(self):
         linear, angular = self._commands.current(self.sim_time)
-        applied_linear, applied_angular = self._world.step(linear, angular,
-                                                           self._dt_ns / NANOSECONDS)
+        self._applied = self._world.step(linear, angular, self._dt_ns / NANOSECONDS)
         self._step_count += 1
-        stamp = Time(nanoseconds=self._step_count * self._dt_ns).to_msg()
-        self._clock_publisher.publish(ClockMsg(clock=stamp))
-        for index, publisher in enumerate(self._odom_publishers):
-            publisher.publish(self._odometry(index, stamp, applied_linear[index],
-                                             applied_angular[index]))
+        self._publish_state()
 
-    def _odometry(self, index, stamp, linear, angular):
-        x, y, theta = self._world.poses[index]
-        message = Odometry()
-        message.header.stamp = stamp
-        message.header.frame_id, message.child_frame_id = self._frames
-        message.pose.pose.position.x = float(x)
-        message.pose.pose.position.y = float(y)
-        message.pose.pose.orientation.z = math.sin(0.5 * theta)
-        message.pose.pose.orientation.w = math.cos(0.5 * theta)
-        message.twist.twist.linear.x = float(linear)
-        message.twist.twist.angular.z = float(angular)
-        return message
+    def _publish_state(self):
+        """Publish /clock (when anyone listens) and every robot's odometry for this step."""
+        seconds, nanoseconds = divmod(self._step_count * self._dt_ns, NANOSECONDS)
+        if self._clock_publisher.get_subscription_count():
+            self._clock_message.clock.sec, self._clock_message.clock.nanosec = (seconds,
+                                                                                nanoseconds)
+            self._clock_publisher.publish(self._clock_message)
+        applied_linear, applied_angular = self._applied
+        for index, publisher in enumerate(self._odom_publishers):
+            message = self._odometry_messages[index]
+            message.header.stamp.sec, message.header.stamp.nanosec = seconds, nanoseconds
+            x, y, theta = self._world.poses[index].tolist()
+            message.pose.pose.position.x, message.pose.pose.position.y = x, y
+            message.pose.pose.orientation.z = math.sin(0.5 * theta)
+            message.pose.pose.orientation.w = math.cos(0.5 * theta)
+            message.twist.twist.linear.x = float(applied_linear[index])
+            message.twist.twist.angular.z = float(applied_angular[index])
+            publisher.publish(message)
+        if self._lockstep:
+            self._unanswered = set(range(self._world.robot_count))
+            self._published_at = time.monotonic()
+
+    def _repeat_unanswered_state(self):
+        """Repeat unanswered odometry when a subscriber joins or after a long silence."""
+        subscribers = sum(publisher.get_subscription_count()
+                          for publisher in self._odom_publishers)
+        joined, self._odometry_subscribers = (subscribers > self._odometry_subscribers,
+                                              subscribers)
+        silent = time.monotonic() - self._published_at > LOCKSTEP_REPEAT_AFTER
+        if self._unanswered and (joined or silent):
+            self._publish_state()
 
     def shut_down(self):
-        """Nothing to release: the simulator owns no hardware."""
+        """Log how long the controller took to answer, when in lockstep."""
+        if self._lockstep and self.answer_latencies:
+            median, p99 = np.percentile(self.answer_latencies, (50, 99)) * 1e3
+            self.get_logger().info(
+                f'lockstep: {self._step_count} steps, cmd_vel answered odometry after '
+                f'{median:.2f} ms (median), {p99:.2f} ms (99th percentile)')
 
 
 def main(argv=None):

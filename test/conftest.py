@@ -11,7 +11,7 @@ import random
 import pytest
 import rclpy
 from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
+from ros_helpers import events_executor
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_STATIC_PEERS'] = ''
@@ -32,11 +32,5 @@ def ros_context():
 @pytest.fixture
 def executor(ros_context):
     """Give the test an executor in its context; destroy its nodes afterwards."""
-    executor = SingleThreadedExecutor(context=ros_context)
-    try:
+    with events_executor(ros_context) as executor:
         yield executor
-    finally:
-        for node in executor.get_nodes():
-            executor.remove_node(node)
-            node.destroy_node()
-        executor.shutdown()

@@ -1,7 +1,9 @@
 """Spinning helpers for in-process tests: every wait has a deadline."""
 
+from contextlib import contextmanager
 import time
 
+from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter
 
 
@@ -21,3 +23,21 @@ def overrides(**values):
 def wait_for_subscribers(executor, publisher, timeout=10.0):
     spin_until(executor, lambda: publisher.get_subscription_count() > 0, timeout,
                f'a subscriber on {publisher.topic_name}')
+
+
+@contextmanager
+def events_executor(context):
+    """
+    Give an EventsExecutor in context; destroy its nodes and shut it down afterwards.
+
+    An EventsExecutor may still deliver events queued for a node it no longer holds, so each
+    run of nodes gets an executor of its own.
+    """
+    executor = EventsExecutor(context=context)
+    try:
+        yield executor
+    finally:
+        for node in executor.get_nodes():
+            executor.remove_node(node)
+            node.destroy_node()
+        executor.shutdown()

@@ -114,3 +114,20 @@ def test_controller_finishes_a_course_against_the_simulator_process(tmp_path):
     assert result.returncode == 0, result.stderr
     kinds = re.findall(r'\]: (STARTED|WAYPOINT \d|FINISHED)', result.stderr)
     assert kinds == ['STARTED', 'WAYPOINT 1', 'WAYPOINT 2', 'FINISHED']
+
+
+def test_lockstep_runs_across_two_processes_are_identical(tmp_path):
+    course = tmp_path / 'course.txt'
+    course.write_text('3 2 45\n2 3 180\n2 3 -90\n')
+    runs = []
+    for _ in range(2):
+        simulator = start('stdr_lite', '--ros-args', '-p', 'lockstep:=true', '-p',
+                          'real_time_factor:=0.0')
+        try:
+            result = run('waypoint_controller', str(course), timeout=120)
+        finally:
+            interrupt(simulator)
+        assert result.returncode == 0, result.stderr
+        runs.append(re.findall(r'\]: ((?:STARTED|WAYPOINT|FINISHED).*)', result.stderr))
+    assert runs[0][-1] == 'FINISHED' and len(runs[0]) == 5
+    assert runs[0] == runs[1]

@@ -1,6 +1,7 @@
 """The stdr_lite node in-process: commands in, odometry, map and clock out."""
 
 import math
+import time
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
@@ -107,6 +108,47 @@ def test_clock_advances_one_step_at_a_time(ros_context, executor):
     steps = {b - a for a, b in zip(stamps, stamps[1:])}
     assert steps <= {25_000_000 * k for k in range(1, 1000)}
     assert stamps == sorted(stamps) and stamps[-1] > stamps[0]
+
+
+def stamps(messages):
+    return [Time.from_msg(message.header.stamp).nanoseconds for message in messages]
+
+
+def spin_for(executor, seconds):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.01)
+
+
+def test_lockstep_holds_time_until_the_odometry_is_answered(ros_context, executor):
+    simulator, probe = start(ros_context, executor, lockstep=True)
+    spin_until(executor, lambda: probe.odometry, what='the first odometry')
+    spin_for(executor, 0.3)
+    assert set(stamps(probe.odometry)) == {0}
+    assert simulator.sim_time == 0.0
+
+
+def test_lockstep_takes_one_step_per_answer(ros_context, executor):
+    simulator, probe = start(ros_context, executor, lockstep=True)
+    answers = 25
+    answered = []
+    forward = Twist()
+    forward.linear.x = 0.5
+
+    def answer(odometry):
+        stamp = Time.from_msg(odometry.header.stamp).nanoseconds
+        if len(answered) < answers and stamp not in answered:
+            answered.append(stamp)
+            probe.cmd_vel.publish(forward)
+
+    probe.create_subscription(Odometry, '/robot0/odom', answer, 100)
+    spin_until(executor, lambda: len(answered) == answers, what='the answered odometry')
+    spin_for(executor, 0.3)
+    steps = sorted(set(stamps(probe.odometry)))
+    assert steps == [20_000_000 * k for k in range(answers + 1)]
+    assert simulator.sim_time == pytest.approx(answers * 0.02)
+    last = probe.odometry[-1]
+    assert last.pose.pose.position.x == pytest.approx(1.0 + answers * 0.5 * 0.02)
 
 
 def test_late_subscriber_receives_the_map(ros_context, executor):

@@ -6,7 +6,7 @@ from nav_msgs.msg import Odometry
 import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from ros_helpers import overrides, spin_until
+from ros_helpers import events_executor, overrides, spin_until
 from std_msgs.msg import String
 
 from stdr_lite.node_runtime import ConfigError
@@ -38,8 +38,9 @@ class Recorder(Node):
 
 
 def run_course(ros_context, executor, course_path, timeout=60.0, **controller_params):
+    """Run a course in lockstep, as fast as it goes; return the controller and the recorder."""
     simulator = StdrLite(context=ros_context,
-                         parameter_overrides=overrides(real_time_factor=20.0))
+                         parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
     recorder = Recorder(ros_context)
     controller_params.setdefault('use_sim_time', True)
     controller = WaypointController(str(course_path), context=ros_context,
@@ -74,6 +75,18 @@ def test_course_reports_every_waypoint_in_its_goal_set(ros_context, executor, tm
                     + abs(math.remainder(pose[2] - reported[2], math.tau)))
         assert truth == pytest.approx(reported, abs=2e-3)
         assert in_goal_set(truth, waypoints[number - 1], ControllerConfig())
+
+
+def test_lockstep_runs_are_identical(ros_context, tmp_path):
+    course = tmp_path / 'course.txt'
+    course.write_text('3 2 45\n2 3 180\n2 3 -90\n')
+    runs = []
+    for _ in range(2):
+        with events_executor(ros_context) as executor:
+            _, recorder = run_course(ros_context, executor, course)
+            runs.append(recorder.status)
+    assert runs[0][-1] == 'FINISHED'
+    assert runs[0] == runs[1]
 
 
 def test_late_subscriber_receives_the_whole_run(ros_context, executor, tmp_path):

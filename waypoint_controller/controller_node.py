@@ -10,6 +10,7 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
+from rclpy.time import Time
 from std_msgs.msg import String
 
 from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameters, EXIT_FAILED,
@@ -34,9 +35,10 @@ PARAMETERS = (
     ParameterSpec('max_linear_speed', DEFAULTS.max_linear_speed, 'speed limit [m/s]', '> 0'),
     ParameterSpec('max_angular_speed', DEFAULTS.max_angular_speed, 'turn-rate limit [rad/s]',
                   '> 0'),
-    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of sim time]', '5 to 100'),
+    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of odometry stamp time]',
+                  '5 to 100'),
     ParameterSpec('stall_timeout', 10.0, 'abort when no progress towards the current waypoint '
-                  'for this long [s of sim time]', '> 0'),
+                  'for this long [s of odometry stamp time]', '> 0'),
     ParameterSpec('heading_kp', DEFAULTS.heading_kp, 'heading PID proportional gain [1/s]',
                   '> 0'),
     ParameterSpec('heading_ki', DEFAULTS.heading_ki, 'heading PID integral gain [1/s^2]',
@@ -84,15 +86,18 @@ class WaypointController(Node):
         except ValueError as error:
             raise ConfigError(str(error)) from None
         self._progress = ProgressMonitor(params['stall_timeout'])
-        self._period = 1.0 / rate
+        self._period_ns = round(1e9 / rate)
         self._pose = None
+        self._stamp = None
+        self._answered = None
+        self._commanded_at = None
+        self._command = Twist()
         everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=len(waypoints) + 2,
                                 reliability=ReliabilityPolicy.RELIABLE,
                                 durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self._status_publisher = self.create_publisher(String, 'robot_status', everything)
         self._cmd_publisher = self.create_publisher(Twist, '/robot0/cmd_vel', 10)
         self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 10)
-        self._timer = self.create_timer(self._period, self._control_step)
         self._odometry_watch = self.create_timer(
             5.0, self._warn_while_waiting, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
@@ -108,20 +113,58 @@ class WaypointController(Node):
         return path
 
     def _on_odometry(self, message):
+        """
+        Answer each new odometry stamp with exactly one cmd_vel.
+
+        The command is recomputed once per control period of odometry time and held in
+        between, so the commands depend only on the odometry, and a simulator in lockstep can
+        count answers. A repeated stamp is answered only if its first answer had nobody to
+        receive it.
+        """
         if self.finished.done():
             return
-        pose = message.pose.pose
+        stamp = Time.from_msg(message.header.stamp).nanoseconds
+        if stamp != self._stamp:
+            self._stamp = stamp
+            pose = message.pose.pose
+            self._control_step(
+                (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation)),
+                stamp)
+        if self._answered != stamp and self._cmd_publisher.get_subscription_count() > 0:
+            self._cmd_publisher.publish(self._command)
+            self._answered = stamp
+
+    def _control_step(self, pose, stamp):
+        now = stamp * 1e-9
         first = self._pose is None
-        self._pose = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+        self._pose = pose
         if first:
-            self._report(started(self._pose))
-            self._progress.restart(self._now())
-        for index in self._follower.check(self._pose):
-            self._report(waypoint_reached(index + 1, self._pose))
-            self._progress.restart(self._now())
+            self._report(started(pose))
+            self._progress.restart(now)
+        for index in self._follower.check(pose):
+            self._report(waypoint_reached(index + 1, pose))
+            self._progress.restart(now)
         if self._follower.finished:
             self._report(finished())
             self._stop(EXIT_OK)
+            return
+        distance, heading_error = self._follower.errors(pose)
+        if self._progress.stalled(now, distance, heading_error):
+            goal = self._follower.current
+            number = self._follower.next_index + 1
+            self.get_logger().error(
+                f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
+                f'unreachable: no progress for {self._progress.timeout:g} s, still '
+                f'{distance:.2f} m away')
+            self._report(aborted(number, pose))
+            self._stop(EXIT_FAILED)
+            return
+        if self._commanded_at is None or stamp - self._commanded_at >= self._period_ns:
+            dt = self._period_ns if self._commanded_at is None else stamp - self._commanded_at
+            step = self._follower.update(pose, dt * 1e-9)
+            self._command = Twist()
+            self._command.linear.x, self._command.angular.z = step.linear, step.angular
+            self._commanded_at = stamp
 
     def _warn_while_waiting(self):
         if self._pose is None:
@@ -129,40 +172,19 @@ class WaypointController(Node):
         else:
             self._odometry_watch.cancel()
 
-    def _control_step(self):
-        if self._pose is None or self.finished.done():
-            return
-        distance, heading_error = self._follower.errors(self._pose)
-        if self._progress.stalled(self._now(), distance, heading_error):
-            goal = self._follower.current
-            number = self._follower.next_index + 1
-            self.get_logger().error(
-                f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
-                f'unreachable: no progress for {self._progress.timeout:g} s, still '
-                f'{distance:.2f} m away')
-            self._report(aborted(number, self._pose))
-            self._stop(EXIT_FAILED)
-            return
-        step = self._follower.update(self._pose, self._period)
-        command = Twist()
-        command.linear.x, command.angular.z = step.linear, step.angular
-        self._cmd_publisher.publish(command)
-
-    def _now(self):
-        return self.get_clock().now().nanoseconds * 1e-9
-
     def _report(self, text):
         self.get_logger().info(text)
         self._status_publisher.publish(String(data=text))
 
     def _stop(self, exit_code):
-        self._cmd_publisher.publish(Twist())
+        self._command = Twist()
         if not self.finished.done():
             self.finished.set_result(exit_code)
 
     def shut_down(self):
         """Stop the robot and give late robot_status subscribers a moment to catch up."""
-        self._cmd_publisher.publish(Twist())
+        self._stop(EXIT_OK)
+        self._cmd_publisher.publish(self._command)
         self._status_publisher.wait_for_all_acked(Duration(seconds=1.0))
 
 
