@@ -21,6 +21,7 @@ lab-session: install
 
 bench: install
 	$(PYTHON) bench/controller.py
+	$(PYTHON) bench/realtime.py
 
 test: install
 	$(PYTHON) -m pytest

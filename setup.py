@@ -20,7 +20,7 @@ setup(
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
     ],
     python_requires='>=3.10',
-    install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow'],
+    install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',
@@ -32,6 +32,8 @@ setup(
             'stdr_lite = stdr_lite.simulator_node:main',
             'move_robot = stdr_lite.move_robot:main',
             'waypoint_controller = waypoint_controller.controller_node:main',
+            'course_monitor = waypoint_controller.monitor_node:main',
+            'plot_run = waypoint_controller.run_plot:main',
         ],
     },
 )

@@ -12,6 +12,8 @@ ARGUMENTS = {
     'real_time_factor': ('1.0', 'simulated seconds per wall second; 0 = as fast as possible',
                          float),
     'integrator': ('euler', 'euler or arc', str),
+    'lockstep': ('false', 'step only once the controller has answered the last odometry',
+                 bool),
 }
 
 

@@ -25,12 +25,18 @@ def generate_launch_description():
         DeclareLaunchArgument('map_yaml', default_value='',
                               description='map_server YAML; empty for the bundled lab_room'),
         DeclareLaunchArgument('real_time_factor', default_value='1.0',
-                              description='simulated seconds per wall second'),
+                              description='at most this many simulated seconds per wall '
+                              'second; 0: as fast as the controller keeps up'),
+        DeclareLaunchArgument('lockstep', default_value='true',
+                              description='advance the simulator only as fast as the '
+                              'controller answers, so every run gives the same result'),
         Node(package='simple_robot_control', executable='stdr_lite', name='stdr_lite',
              output='screen',
              parameters=[{'map_yaml': LaunchConfiguration('map_yaml'),
                           'real_time_factor': ParameterValue(
-                              LaunchConfiguration('real_time_factor'), value_type=float)}]),
+                              LaunchConfiguration('real_time_factor'), value_type=float),
+                          'lockstep': ParameterValue(LaunchConfiguration('lockstep'),
+                                                     value_type=bool)}]),
         controller,
         RegisterEventHandler(OnProcessExit(target_action=controller,
                                            on_exit=[EmitEvent(event=Shutdown())])),

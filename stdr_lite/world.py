@@ -72,23 +72,26 @@ class World:
         """
         linear = np.asarray(linear, dtype=float)
         angular = np.asarray(angular, dtype=float)
-        longest = float(np.max(np.abs(linear), initial=0.0)) * dt
-        samples = max(1, math.ceil(longest / self._sample_spacing))
-        fractions = np.arange(1, samples + 1) / samples
-        x, y, theta = self.poses.T[:, :, None]
-        path_x, path_y, path_theta = self._advance(x, y, theta, linear[:, None],
-                                                   angular[:, None], dt * fractions)
-        moves = ~self._blocked(path_x, path_y, linear)
-        self.poses[moves] = np.column_stack([path_x[moves, -1], path_y[moves, -1],
-                                             path_theta[moves, -1]])
+        x, y, theta = self.poses.T
+        moves = ~self._blocked(x, y, theta, linear, angular, dt)
+        new_x, new_y, new_theta = self._advance(x, y, theta, linear, angular, dt)
+        self.poses = np.where(moves[:, None], np.column_stack([new_x, new_y, new_theta]),
+                              self.poses)
         return np.where(moves, linear, 0.0), np.where(moves, angular, 0.0)
 
-    def _blocked(self, path_x, path_y, linear):
-        """Whether a translating robot's footprint touches anything at any sample of its path."""
+    def _blocked(self, x, y, theta, linear, angular, dt):
+        """Check the footprint along the path of each robot translating near a wall."""
         blocked = np.zeros(self.robot_count, dtype=bool)
-        translating = np.flatnonzero(linear != 0.0)
-        if translating.size:
-            touching = self.checker.touches(path_x[translating], path_y[translating],
-                                            self.radii[translating, None])
-            blocked[translating] = np.any(touching, axis=1)
+        step_length = np.abs(linear) * dt
+        suspect = np.flatnonzero((linear != 0.0)
+                                 & ~self.checker.clear_for_motion(x, y, step_length))
+        if suspect.size == 0:
+            return blocked
+        samples = max(1, math.ceil(float(np.max(step_length[suspect])) / self._sample_spacing))
+        fractions = np.arange(1, samples + 1) / samples
+        index = suspect[:, None]
+        path_x, path_y, _ = self._advance(x[index], y[index], theta[index], linear[index],
+                                          angular[index], dt * fractions[None, :])
+        touching = self.checker.touches(path_x, path_y, self.radii[index])
+        blocked[suspect] = np.any(touching, axis=1)
         return blocked

@@ -9,7 +9,7 @@ import pytest
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 PACKAGE = 'simple_robot_control'
-EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller']
+EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller', 'course_monitor', 'plot_run']
 
 
 @pytest.fixture(scope='module')

@@ -6,7 +6,7 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 
-from stdr_lite.collision import FootprintChecker
+from stdr_lite.collision import FootprintChecker, MOTION_MARGIN
 from stdr_lite.occupancy_map import load_map, OccupancyMap
 from stdr_lite.world import PlacementError, World
 
@@ -51,6 +51,22 @@ def test_checker_agrees_with_brute_force(origin):
     expected = [brute_force_touches(occupied, origin, *args) for args in zip(x, y, radius)]
     assert checker.touches(x, y, radius).tolist() == expected
     assert 50 < sum(expected) < 350
+
+
+def test_clear_for_motion_holds_everywhere_a_short_step_can_reach():
+    rng = np.random.default_rng(3)
+    occupied = rng.random((30, 40)) < 0.02
+    checker = FootprintChecker(grid_map(occupied), max_radius=0.2)
+    x, y = rng.uniform(-0.2, 2.2, 3000), rng.uniform(-0.2, 1.7, 3000)
+    clear = checker.clear_for_motion(x, y, MOTION_MARGIN)
+    assert 0 < clear.sum() < clear.size
+    angles = np.linspace(0.0, 2.0 * math.pi, 24, endpoint=False)
+    for start_x, start_y in zip(x[clear], y[clear]):
+        for distance in (0.0, 0.5 * MOTION_MARGIN, MOTION_MARGIN):
+            ends = zip(start_x + distance * np.cos(angles), start_y + distance * np.sin(angles))
+            assert not any(brute_force_touches(occupied, (0.0, 0.0, 0.0), end_x, end_y, 0.2)
+                           for end_x, end_y in ends)
+    assert not checker.clear_for_motion(x, y, 1.5 * MOTION_MARGIN).any()
 
 
 def test_circle_exactly_clear_of_a_wall_does_not_touch_it():

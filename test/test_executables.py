@@ -10,7 +10,8 @@ import pytest
 POSE_LINE = re.compile(r'Current position, x: (\S+), y: (\S+), theta: (\S+)')
 
 
-@pytest.mark.parametrize('name', ['stdr_lite', 'move_robot', 'waypoint_controller'])
+@pytest.mark.parametrize('name', ['stdr_lite', 'move_robot', 'waypoint_controller',
+                                  'course_monitor'])
 def test_help_lists_the_ros_parameters(name):
     result = run(name, '--help')
     assert result.returncode == 0

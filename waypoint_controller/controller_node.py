@@ -58,6 +58,33 @@ DESCRIPTION = ('waypoint_controller: drive the robot through the waypoints of WA
                'bad input.')
 
 
+def load_course(node, argument, parameter):
+    """
+    Return (path, waypoints) of the course from the argument, the parameter or the default.
+
+    Giving both is an error, as is a bad file; giving neither picks the bundled course and
+    logs that it did.
+    """
+    require(not (argument and parameter),
+            f'waypoint file given twice: argument {argument!r} and parameter '
+            f'waypoint_file {parameter!r}; give one')
+    path = argument or parameter
+    if not path:
+        path = shared_file('waypoints', DEFAULT_COURSE)
+        node.get_logger().info(f'no waypoint file given: using the bundled {DEFAULT_COURSE}')
+    try:
+        return path, load_waypoints(path)
+    except WaypointFileError as error:
+        raise ConfigError(str(error)) from None
+
+
+def status_qos(waypoint_count):
+    """Reliable, transient local, and deep enough to replay a whole run to a late subscriber."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=waypoint_count + 2,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
 class WaypointController(Node):
     """Reads odometry, commands velocities, and reports progress on robot_status."""
 
@@ -65,11 +92,7 @@ class WaypointController(Node):
         super().__init__('waypoint_controller', **kwargs)
         self.finished = Future()
         params = declare_parameters(self, PARAMETERS)
-        path = self._course_path(waypoint_file, params['waypoint_file'])
-        try:
-            waypoints = load_waypoints(path)
-        except WaypointFileError as error:
-            raise ConfigError(str(error)) from None
+        path, waypoints = load_course(self, waypoint_file, params['waypoint_file'])
         rate = params['control_rate_hz']
         require(5.0 <= rate <= 100.0, f'control_rate_hz must lie in [5, 100], got {rate}')
         require(params['stall_timeout'] > 0.0,
@@ -92,25 +115,13 @@ class WaypointController(Node):
         self._answered = None
         self._commanded_at = None
         self._command = Twist()
-        everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=len(waypoints) + 2,
-                                reliability=ReliabilityPolicy.RELIABLE,
-                                durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self._status_publisher = self.create_publisher(String, 'robot_status', everything)
+        self._status_publisher = self.create_publisher(String, 'robot_status',
+                                                       status_qos(len(waypoints)))
         self._cmd_publisher = self.create_publisher(Twist, '/robot0/cmd_vel', 10)
         self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 10)
         self._odometry_watch = self.create_timer(
             5.0, self._warn_while_waiting, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
-
-    def _course_path(self, argument, parameter):
-        require(not (argument and parameter),
-                f'waypoint file given twice: argument {argument!r} and parameter '
-                f'waypoint_file {parameter!r}; give one')
-        if argument or parameter:
-            return argument or parameter
-        path = shared_file('waypoints', DEFAULT_COURSE)
-        self.get_logger().info(f'no waypoint file given: following the bundled {DEFAULT_COURSE}')
-        return path
 
     def _on_odometry(self, message):
         """

@@ -1,0 +1,143 @@
+#!/usr/bin/env python3
+"""
+Measure how fast stdr_lite and waypoint_controller run in lockstep (a benchmark, not a test).
+
+The bundled lab tour is driven at rate_hz 50 with the simulator in lockstep and unpaced:
+once with both nodes in this process on one EventsExecutor, once with the controller as a
+separate process. The real-time factor is simulated seconds per wall second from the first
+step to FINISHED; the control-step latency is the wall time from publishing odometry to
+receiving the cmd_vel that answers it. Last, the bare World steps N robots with wall collision.
+"""
+
+import argparse
+import os
+import random
+import subprocess
+import sys
+import time
+
+import numpy as np
+import rclpy
+from rclpy.context import Context
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
+
+from stdr_lite.occupancy_map import load_map
+from stdr_lite.share import shared_file
+from stdr_lite.simulator_node import StdrLite
+from stdr_lite.world import PlacementError, World
+from waypoint_controller.controller_node import WaypointController
+
+RUN_TIMEOUT = 300.0
+
+
+class StatusWatch(Node):
+    """Notes the time robot_status says FINISHED or ABORTED."""
+
+    def __init__(self, context):
+        super().__init__('realtime_bench', context=context)
+        self.last = None
+        everything = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
+                                durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(String, 'robot_status', self._on_status, everything)
+
+    def _on_status(self, message):
+        if message.data.split()[0] in ('FINISHED', 'ABORTED'):
+            self.last = message.data
+
+
+def spin_until(executor, condition, timeout=RUN_TIMEOUT):
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            raise RuntimeError(f'no result within {timeout:g} s')
+        executor.spin_once(timeout_sec=0.1)
+
+
+def drive_course(course, separate_process):
+    """Run the course; return (sim seconds, wall seconds, answer latencies in seconds)."""
+    context = Context()
+    rclpy.init(context=context)
+    executor = EventsExecutor(context=context)
+    controller_process = None
+    try:
+        simulator = StdrLite(context=context, parameter_overrides=[
+            Parameter('lockstep', value=True), Parameter('real_time_factor', value=0.0)])
+        watch = StatusWatch(context)
+        for node in (simulator, watch):
+            executor.add_node(node)
+        if separate_process:
+            controller_process = subprocess.Popen(
+                [os.path.join(os.path.dirname(sys.executable), 'waypoint_controller'), course,
+                 '--ros-args', '--log-level', 'warn'])
+        else:
+            executor.add_node(WaypointController(course, context=context))
+        spin_until(executor, lambda: simulator.sim_time > 0.0)
+        started_sim, started_wall = simulator.sim_time, time.perf_counter()
+        spin_until(executor, lambda: watch.last is not None)
+        wall = time.perf_counter() - started_wall
+        if watch.last != 'FINISHED':
+            raise RuntimeError(f'the course ended with {watch.last}')
+        return simulator.sim_time - started_sim, wall, np.array(simulator.answer_latencies)
+    finally:
+        if controller_process is not None:
+            controller_process.wait(timeout=30)
+        for node in executor.get_nodes():
+            executor.remove_node(node)
+            node.destroy_node()
+        executor.shutdown()
+        rclpy.try_shutdown(context=context)
+
+
+def robot_steps_per_second(robot_count, steps, seed=1):
+    """Step robot_count robots with random commands in the lab room; robot-steps per second."""
+    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
+    rng = np.random.default_rng(seed)
+    width, height = world.map.width * world.map.resolution, world.map.height * world.map.resolution
+    while world.robot_count < robot_count:
+        pose = (rng.uniform(0.0, width), rng.uniform(0.0, height), rng.uniform(-np.pi, np.pi))
+        try:
+            world.add_robot(pose, 0.2)
+        except PlacementError:
+            continue
+    linear = rng.uniform(-0.5, 0.5, robot_count)
+    angular = rng.uniform(-1.0, 1.0, robot_count)
+    started = time.perf_counter()
+    for _ in range(steps):
+        world.step(linear, angular, 0.02)
+    return robot_count * steps / (time.perf_counter() - started)
+
+
+def keep_dds_on_loopback():
+    """Confine DDS to loopback in a domain of this run's own, for us and the controller."""
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    os.environ['ROS_STATIC_PEERS'] = ''
+    os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 100)))
+
+
+def main(argv=None):
+    keep_dds_on_loopback()
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--course', default=shared_file('waypoints', 'lab_tour.txt'))
+    parser.add_argument('--robots', type=int, nargs='+', default=[1, 100, 1000])
+    args = parser.parse_args(argv)
+    print(f'course {args.course}, stdr_lite at rate_hz 50 in lockstep, real_time_factor 0')
+    print(f'{"configuration":24} {"sim s":>7} {"wall s":>7} {"RTF":>7} '
+          f'{"latency med":>12} {"latency p99":>12}')
+    for label, separate in (('one process', False), ('two processes', True)):
+        sim, wall, latencies = drive_course(args.course, separate)
+        median, p99 = np.percentile(latencies, (50, 99)) * 1e3
+        print(f'{label:24} {sim:7.2f} {wall:7.2f} {sim / wall:6.1f}x '
+              f'{median:9.2f} ms {p99:9.2f} ms', flush=True)
+    print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9}')
+    for count in args.robots:
+        rate = robot_steps_per_second(count, steps=max(200, 20000 // count))
+        print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f}', flush=True)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
