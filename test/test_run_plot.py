@@ -13,7 +13,7 @@ from stdr_lite.simulator_node import StdrLite
 from waypoint_controller.controller_node import WaypointController
 from waypoint_controller.monitor_node import CourseMonitor
 from waypoint_controller.run_plot import DPI, FIGURE_SIZE, main as plot_run, render_run
-from waypoint_controller.run_record import load_run
+from waypoint_controller.run_record import load_run, reported_pose
 
 COURSE = '2.5 2 0\n2.5 3 90\n'
 
@@ -54,10 +54,11 @@ def test_record_holds_the_run(recorded_run):
     assert record.result == 'FINISHED'
     assert np.all(np.diff(record.times) > 0.0)
     assert record.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
-    last_report = [float(value) for value in record.statuses[2][1].split()[-3:]]
-    end = record.poses[-1]
-    assert math.dist(end[:2], last_report[:2]) < 0.05
-    assert math.dist(end[:2], (2.5, 3.0)) <= 0.1
+    poses_at = dict(zip(record.times, record.poses))
+    for date, text in record.statuses[1:3]:
+        assert poses_at[date] == pytest.approx(reported_pose(text), abs=1e-3)
+    assert record.statuses[3][0] == record.statuses[2][0]
+    assert math.dist(record.poses[-1][:2], (2.5, 3.0)) <= 0.1
 
 
 def test_picture_of_the_run_is_a_png_of_the_expected_size(recorded_run, tmp_path):

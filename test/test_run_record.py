@@ -5,7 +5,8 @@ import math
 
 import pytest
 
-from waypoint_controller.run_record import load_run, RunRecordError, RunRecordWriter
+from waypoint_controller.run_record import (load_run, reported_pose, RunRecordError,
+                                            RunRecordWriter, StatusClock)
 from waypoint_controller.waypoints import Waypoint
 
 HEADER = {'course': 'square.txt', 'waypoints': [[1.0, 2.0, 0.5]], 'distance_tolerance': 0.1,
@@ -62,3 +63,44 @@ def test_bad_record_is_one_line_naming_file_and_line(tmp_path, lines, message):
 def test_missing_record_is_named(tmp_path):
     with pytest.raises(RunRecordError, match='nothing.jsonl: cannot read run record'):
         load_run(tmp_path / 'nothing.jsonl')
+
+
+def drive(clock, poses, start=0.0, step=0.02):
+    for index, pose in enumerate(poses):
+        clock.odometry(start + index * step, pose)
+
+
+def test_status_is_dated_by_the_odometry_showing_its_pose():
+    clock = StatusClock()
+    standing = [(1.0, 2.0, 0.0)] * 5
+    moving = [(1.0 + 0.01 * k, 2.0, 0.0) for k in range(1, 20)]
+    drive(clock, standing + moving)
+    assert clock.now == pytest.approx(23 * 0.02)
+    assert clock.date('STARTED 1.000 2.000 0.00') == 0.0
+    assert clock.date('WAYPOINT 1 1.100 2.000 0.00') == pytest.approx(14 * 0.02)
+    assert clock.date('FINISHED') == pytest.approx(14 * 0.02)
+
+
+def test_status_without_a_matching_pose_is_dated_now():
+    clock = StatusClock()
+    drive(clock, [(1.0, 2.0, 0.0), (1.1, 2.0, 0.0)])
+    assert clock.date('WAYPOINT 1 5.000 5.000 0.00') == pytest.approx(0.02)
+    assert clock.date('ABORTED 2 1.000 2.000 0.00') == pytest.approx(0.02)
+
+
+def test_heading_matches_across_the_wrap_and_repeated_stamps_are_ignored():
+    clock = StatusClock()
+    assert clock.odometry(0.0, (0.0, 0.0, math.pi))
+    assert not clock.odometry(0.0, (9.0, 9.0, 0.0))
+    clock.odometry(0.02, (0.0, 0.0, 1.0))
+    assert clock.date('WAYPOINT 1 0.000 0.000 -180.00') == 0.0
+
+
+@pytest.mark.parametrize('text, pose', [
+    ('STARTED 1.000 -2.500 90.00', (1.0, -2.5, math.pi / 2)),
+    ('WAYPOINT 3 0.5 0.25 -45', (0.5, 0.25, -math.pi / 4)),
+    ('FINISHED', None),
+    ('WAYPOINT 3 x y z', None),
+])
+def test_reported_pose(text, pose):
+    assert reported_pose(text) == (pytest.approx(pose) if pose else None)

@@ -22,7 +22,7 @@ from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameter
 from stdr_lite.pose import yaw_from_quaternion
 from waypoint_controller import controller_node
 from waypoint_controller.controller_node import load_course, status_qos
-from waypoint_controller.run_record import RunRecordWriter
+from waypoint_controller.run_record import RunRecordWriter, StatusClock
 
 PROGRESS_PERIOD = 0.1
 BAR_WIDTH = 20
@@ -54,8 +54,8 @@ class CourseMonitor(Node):
         self._interactive = sys.stdout.isatty() if interactive is None else interactive
         self._total = len(waypoints)
         self._done = 0
-        self._sim_time = self._sim_started = 0.0
-        self._recorded_stamp = None
+        self._clock = StatusClock()
+        self._sim_started = 0.0
         self._wall_started = None
         self._progress_shown = False
         self._record = None
@@ -74,38 +74,39 @@ class CourseMonitor(Node):
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
 
     def _on_odometry(self, message):
-        self._sim_time = Time.from_msg(message.header.stamp).nanoseconds * 1e-9
-        if self._record is not None and self._sim_time != self._recorded_stamp:
-            self._recorded_stamp = self._sim_time
-            pose = message.pose.pose
-            self._record.pose(self._sim_time, (pose.position.x, pose.position.y,
-                                               yaw_from_quaternion(pose.orientation)))
+        stamp = Time.from_msg(message.header.stamp).nanoseconds * 1e-9
+        pose = message.pose.pose
+        pose = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+        if self._clock.odometry(stamp, pose) and self._record is not None:
+            self._record.pose(stamp, pose)
 
     def _on_status(self, message):
         if self.finished.done():
             return
         text = message.data
         kind = text.split()[0] if text.strip() else ''
+        date = self._clock.date(text)
         if kind == 'STARTED':
             self._wall_started = time.monotonic()
-            self._sim_started = self._sim_time
+            self._sim_started = date
         elif kind == 'WAYPOINT':
             self._done += 1
         self._clear_progress()
         self._write(text + '\n')
         if self._record is not None:
-            self._record.status(self._sim_time, text)
+            self._record.status(date, text)
         if kind in ('FINISHED', 'ABORTED'):
-            self._write(self._progress_text() + '\n')
+            self._write(self._progress_text(date) + '\n')
             self.finished.set_result(EXIT_OK if kind == 'FINISHED' else EXIT_FAILED)
         else:
             self._show_progress()
 
-    def _progress_text(self):
+    def _progress_text(self, sim_time=None):
+        sim_time = self._clock.now if sim_time is None else sim_time
         wall = 0.0 if self._wall_started is None else time.monotonic() - self._wall_started
         filled = round(BAR_WIDTH * self._done / self._total)
         return (f'[{"#" * filled}{"." * (BAR_WIDTH - filled)}] {self._done}/{self._total} '
-                f'waypoints | sim {self._sim_time - self._sim_started:.1f} s | '
+                f'waypoints | sim {sim_time - self._sim_started:.1f} s | '
                 f'wall {wall:.1f} s')
 
     def _show_progress(self):

@@ -19,7 +19,7 @@ import numpy as np
 
 from stdr_lite.occupancy_map import load_map, MapError
 from stdr_lite.share import shared_file
-from waypoint_controller.run_record import load_run, RunRecordError
+from waypoint_controller.run_record import load_run, reported_pose, RunRecordError
 
 FIGURE_SIZE = (10.0, 7.5)
 DPI = 100
@@ -100,9 +100,9 @@ def _draw_waypoints(axes, record):
 
 
 def _reported_poses(record, kind):
-    """Poses from the status messages of a kind: x y theta, theta in degrees, ending the text."""
-    return [tuple(float(value) for value in text.split()[-3:])
-            for _, text in record.statuses if text.split()[0] == kind]
+    """Poses (theta in radians) from the status messages of one kind."""
+    poses = [reported_pose(text) for _, text in record.statuses if text.split()[0] == kind]
+    return [pose for pose in poses if pose is not None]
 
 
 def _draw_reports(axes, record):
@@ -121,7 +121,7 @@ def _draw_footprints(axes, record, robot_radius):
     started = _reported_poses(record, 'STARTED')
     start = record.poses[0]
     if started:
-        start = (*started[0][:2], math.radians(started[0][2]))
+        start = started[0]
     for (x, y, theta), colour, label in ((start, 'tab:green', 'robot at start'),
                                          (record.poses[-1], 'tab:blue', 'robot at end')):
         axes.add_patch(Circle((x, y), robot_radius, fill=False, edgecolor=colour,

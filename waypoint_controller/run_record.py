@@ -7,12 +7,81 @@ The first line describes the run: {"course": name, "waypoints": [[x, y, theta], 
 the odometry stamp time in seconds and angles are radians (REP-103).
 """
 
+from collections import deque
 from dataclasses import dataclass, field
 import json
 import math
 import os
 
 from waypoint_controller.waypoints import Waypoint
+
+
+# robot_status prints x and y to 1 mm and theta to 0.01 degree; a pose matches within rounding.
+POSITION_ROUNDING = 0.0006
+HEADING_ROUNDING = math.radians(0.006)
+RECENT_POSES = 2000
+
+
+class StatusClock:
+    """
+    Date robot_status messages by the odometry stamp of the pose they report.
+
+    A status message carries no stamp and may arrive after later odometry (discovery, queues),
+    so the time of arrival is not the time of the event. The reported pose is matched against
+    recent odometry instead: the message is dated by the first stamp of the latest stretch of
+    odometry showing that pose. FINISHED has no pose and shares the last message's date;
+    ABORTED comes at the end of a stall, so it is dated by the latest odometry.
+    """
+
+    def __init__(self):
+        self._recent = deque(maxlen=RECENT_POSES)
+        self._last_date = 0.0
+
+    def odometry(self, time, pose):
+        """Note the pose at a stamp; return False for a repeated stamp, which is ignored."""
+        if self._recent and self._recent[-1][0] == time:
+            return False
+        self._recent.append((time, pose))
+        return True
+
+    @property
+    def now(self):
+        """Return the latest odometry stamp, in seconds."""
+        return self._recent[-1][0] if self._recent else 0.0
+
+    def date(self, text):
+        """Return the time at which the status message text was true."""
+        words = text.split()
+        if words and words[0] == 'FINISHED':
+            return self._last_date
+        self._last_date = self.now
+        if words and words[0] in ('STARTED', 'WAYPOINT'):
+            pose = reported_pose(text)
+            if pose is not None:
+                self._last_date = self._first_stamp_showing(*pose)
+        return self._last_date
+
+    def _first_stamp_showing(self, x, y, theta):
+        first = None
+        for time, (pose_x, pose_y, pose_theta) in reversed(self._recent):
+            if (abs(pose_x - x) <= POSITION_ROUNDING and abs(pose_y - y) <= POSITION_ROUNDING
+                    and abs(math.remainder(pose_theta - theta, math.tau)) <= HEADING_ROUNDING):
+                first = time
+            elif first is not None:
+                break
+        return self.now if first is None else first
+
+
+def reported_pose(text):
+    """Return (x, y, theta in radians) from a status message's last three words, or None."""
+    words = text.split()
+    if len(words) < 4:
+        return None
+    try:
+        x, y, degrees = (float(word) for word in words[-3:])
+    except ValueError:
+        return None
+    return x, y, math.radians(degrees)
 
 
 class RunRecordError(ValueError):
