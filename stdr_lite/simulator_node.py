@@ -102,7 +102,7 @@ class StdrLite(Node):
         self._map_publisher.publish(self._map_message(params['map_frame_id']))
         self._lockstep = params['lockstep']
         self._unanswered = set()
-        self._published_at = 0.0
+        self._published_at = self._repeated_at = 0.0
         self.answer_latencies = deque(maxlen=LATENCY_SAMPLES)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
         paced = params['real_time_factor'] > 0.0
@@ -116,6 +116,7 @@ class StdrLite(Node):
             self._odometry_subscribers = 0
             self.create_timer(0.05, self._repeat_unanswered_state, clock=steady)
             self._publish_state()
+            self._await_answers()
         self.get_logger().info(
             f'{self._map_name} {self._world.map.width}x{self._world.map.height} cells, '
             f'robot {self._robot_names[0]} at {tuple(params["initial_pose"])}, '
@@ -200,6 +201,8 @@ class StdrLite(Node):
         self._applied = self._world.step(linear, angular, self._dt_ns / NANOSECONDS)
         self._step_count += 1
         self._publish_state()
+        if self._lockstep:
+            self._await_answers()
 
     def _publish_state(self):
         """Publish /clock (when anyone listens) and every robot's odometry for this step."""
@@ -219,9 +222,10 @@ class StdrLite(Node):
             message.twist.twist.linear.x = float(applied_linear[index])
             message.twist.twist.angular.z = float(applied_angular[index])
             publisher.publish(message)
-        if self._lockstep:
-            self._unanswered = set(range(self._world.robot_count))
-            self._published_at = time.monotonic()
+
+    def _await_answers(self):
+        self._unanswered = set(range(self._world.robot_count))
+        self._published_at = self._repeated_at = time.monotonic()
 
     def _repeat_unanswered_state(self):
         """Repeat unanswered odometry when a subscriber joins or after a long silence."""
@@ -229,9 +233,10 @@ class StdrLite(Node):
                           for publisher in self._odom_publishers)
         joined, self._odometry_subscribers = (subscribers > self._odometry_subscribers,
                                               subscribers)
-        silent = time.monotonic() - self._published_at > LOCKSTEP_REPEAT_AFTER
+        silent = time.monotonic() - self._repeated_at > LOCKSTEP_REPEAT_AFTER
         if self._unanswered and (joined or silent):
             self._publish_state()
+            self._repeated_at = time.monotonic()
 
     def shut_down(self):
         """Log how long the controller took to answer, when in lockstep."""

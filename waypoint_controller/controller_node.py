@@ -19,6 +19,7 @@ from stdr_lite.pose import yaw_from_quaternion
 from stdr_lite.share import shared_file
 from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.progress import ProgressMonitor
+from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.status import aborted, finished, started, waypoint_reached
 from waypoint_controller.waypoints import load_waypoints, WaypointFileError
 
@@ -109,11 +110,10 @@ class WaypointController(Node):
         except ValueError as error:
             raise ConfigError(str(error)) from None
         self._progress = ProgressMonitor(params['stall_timeout'])
-        self._period_ns = round(1e9 / rate)
+        self._schedule = ControlSchedule(round(1e9 / rate))
         self._pose = None
         self._stamp = None
         self._answered = None
-        self._commanded_at = None
         self._command = Twist()
         self._status_publisher = self.create_publisher(String, 'robot_status',
                                                        status_qos(len(waypoints)))
@@ -170,12 +170,11 @@ class WaypointController(Node):
             self._report(aborted(number, pose))
             self._stop(EXIT_FAILED)
             return
-        if self._commanded_at is None or stamp - self._commanded_at >= self._period_ns:
-            dt = self._period_ns if self._commanded_at is None else stamp - self._commanded_at
-            step = self._follower.update(pose, dt * 1e-9)
+        elapsed = self._schedule.due(stamp)
+        if elapsed is not None:
+            step = self._follower.update(pose, elapsed * 1e-9)
             self._command = Twist()
             self._command.linear.x, self._command.angular.z = step.linear, step.angular
-            self._commanded_at = stamp
 
     def _warn_while_waiting(self):
         if self._pose is None:
