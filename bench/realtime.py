@@ -6,7 +6,8 @@ The bundled lab tour is driven at rate_hz 50 with the simulator in lockstep and 
 once with both nodes in this process on one EventsExecutor, once with the controller as a
 separate process. The real-time factor is simulated seconds per wall second from the first
 step to FINISHED; the control-step latency is the wall time from publishing odometry to
-receiving the cmd_vel that answers it. Last, the bare World steps N robots with wall collision.
+receiving the cmd_vel that answers it. Each configuration runs several times and the run with
+the median RTF is shown. Last, the bare World steps N robots with wall collision.
 """
 
 import argparse
@@ -123,15 +124,20 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     parser.add_argument('--course', default=shared_file('waypoints', 'lab_tour.txt'))
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 100, 1000])
+    parser.add_argument('--repeat', type=int, default=5,
+                        help='runs per configuration; the run with the median RTF is shown')
     args = parser.parse_args(argv)
     print(f'course {args.course}, stdr_lite at rate_hz 50 in lockstep, real_time_factor 0')
-    print(f'{"configuration":24} {"sim s":>7} {"wall s":>7} {"RTF":>7} '
+    print(f'{"configuration":16} {"sim s":>7} {"wall s":>7} {"RTF":>7} {"RTF range":>13} '
           f'{"latency med":>12} {"latency p99":>12}')
     for label, separate in (('one process', False), ('two processes', True)):
-        sim, wall, latencies = drive_course(args.course, separate)
+        runs = sorted((drive_course(args.course, separate) for _ in range(args.repeat)),
+                      key=lambda run: run[0] / run[1])
+        sim, wall, latencies = runs[len(runs) // 2]
+        slowest, fastest = (run[0] / run[1] for run in (runs[0], runs[-1]))
         median, p99 = np.percentile(latencies, (50, 99)) * 1e3
-        print(f'{label:24} {sim:7.2f} {wall:7.2f} {sim / wall:6.1f}x '
-              f'{median:9.2f} ms {p99:9.2f} ms', flush=True)
+        print(f'{label:16} {sim:7.2f} {wall:7.2f} {sim / wall:6.1f}x '
+              f'{slowest:5.1f}-{fastest:5.1f}x {median:9.2f} ms {p99:9.2f} ms', flush=True)
     print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9}')
     for count in args.robots:
         rate = robot_steps_per_second(count, steps=max(200, 20000 // count))
