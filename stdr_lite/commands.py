@@ -34,6 +34,18 @@ class CommandBuffer:
         self._received_at[index] = now
         return True
 
+    def add_robot(self):
+        """Make room for one more robot, standing still."""
+        self._linear = np.append(self._linear, 0.0)
+        self._angular = np.append(self._angular, 0.0)
+        self._received_at = np.append(self._received_at, 0.0)
+
+    def remove_robot(self, index):
+        """Forget robot index; the robots after it move down one index."""
+        self._linear = np.delete(self._linear, index)
+        self._angular = np.delete(self._angular, index)
+        self._received_at = np.delete(self._received_at, index)
+
     def exceeds_limits(self, linear, angular):
         """Whether a command would be clamped."""
         return abs(linear) > self.max_linear_speed or abs(angular) > self.max_angular_speed

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from stdr_lite.collision import FootprintChecker
 from stdr_lite.kinematics import INTEGRATORS
@@ -40,8 +41,13 @@ class World:
     def robot_count(self):
         return len(self.radii)
 
-    def check_placement(self, pose, radius):
-        """Raise PlacementError unless a robot of this radius can stand at pose."""
+    def check_placement(self, pose, radius, ignore=None):
+        """
+        Raise PlacementError unless a robot of this radius can stand at pose.
+
+        It must be on the map, clear of walls and clear of every robot but the one numbered
+        ignore (the robot being moved).
+        """
         x, y, theta = (float(value) for value in pose)
         if not all(math.isfinite(value) for value in (x, y, theta)):
             raise PlacementError(f'pose ({x}, {y}, {theta}) is not finite')
@@ -56,6 +62,12 @@ class World:
         if self.checker.touches(x, y, radius):
             raise PlacementError(f'a footprint of radius {radius:g} m at ({x:g}, {y:g}) '
                                  'touches a wall or the map edge')
+        gaps = np.hypot(self.poses[:, 0] - x, self.poses[:, 1] - y) - self.radii - radius
+        if ignore is not None:
+            gaps[ignore] = np.inf
+        if np.any(gaps < 0.0):
+            raise PlacementError(f'a footprint of radius {radius:g} m at ({x:g}, {y:g}) '
+                                 f'overlaps robot {int(np.argmin(gaps))}')
 
     def add_robot(self, pose, radius):
         """Place a robot and return its index."""
@@ -63,6 +75,16 @@ class World:
         self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])
         self.radii = np.append(self.radii, float(radius))
         return self.robot_count - 1
+
+    def move_robot(self, index, pose):
+        """Teleport robot index to pose, or raise PlacementError and leave it where it is."""
+        self.check_placement(pose, self.radii[index], ignore=index)
+        self.poses[index] = np.asarray(pose, dtype=float)
+
+    def remove_robot(self, index):
+        """Take robot index out of the world; the robots after it move down one index."""
+        self.poses = np.delete(self.poses, index, axis=0)
+        self.radii = np.delete(self.radii, index)
 
     def step(self, linear, angular, dt):
         """
@@ -74,10 +96,41 @@ class World:
         angular = np.asarray(angular, dtype=float)
         x, y, theta = self.poses.T
         moves = ~self._blocked(x, y, theta, linear, angular, dt)
-        new_x, new_y, new_theta = self._advance(x, y, theta, linear, angular, dt)
-        self.poses = np.where(moves[:, None], np.column_stack([new_x, new_y, new_theta]),
-                              self.poses)
+        new_poses = np.column_stack(self._advance(x, y, theta, linear, angular, dt))
+        moves &= ~self._moving_into_robots(new_poses, moves & (linear != 0.0), dt)
+        self.poses = np.where(moves[:, None], new_poses, self.poses)
         return np.where(moves, linear, 0.0), np.where(moves, angular, 0.0)
+
+    def _moving_into_robots(self, new_poses, translating, dt):
+        """
+        Which robots' steps would bring their footprint into another's, or deeper into it.
+
+        Only pairs close enough to touch within a step are examined (a k-d tree finds them).
+        Rejecting a step can make another robot's step the offending one, so the check repeats
+        until no step offends; a robot is at fault only if its own motion closes the gap.
+        """
+        rejected = np.zeros(self.robot_count, dtype=bool)
+        if not translating.any() or self.robot_count < 2:
+            return rejected
+        longest = float(np.max(np.hypot(*(new_poses[:, :2] - self.poses[:, :2]).T)))
+        reach = 2.0 * float(np.max(self.radii)) + 2.0 * longest
+        pairs = cKDTree(self.poses[:, :2]).query_pairs(reach, output_type='ndarray')
+        if pairs.size == 0:
+            return rejected
+        pairs = np.concatenate([pairs, pairs[:, ::-1]])
+        mover, other = pairs[:, 0], pairs[:, 1]
+        pairs_moving = translating[mover]
+        mover, other = mover[pairs_moving], other[pairs_moving]
+        contact = self.radii[mover] + self.radii[other]
+        while True:
+            moved = translating & ~rejected
+            positions = np.where(moved[:, None], new_poses[:, :2], self.poses[:, :2])
+            before = np.hypot(*(self.poses[mover, :2] - positions[other]).T)
+            after = np.hypot(*(new_poses[mover, :2] - positions[other]).T)
+            offending = moved[mover] & (after < contact) & (after < before)
+            if not offending.any():
+                return rejected
+            rejected[mover[offending]] = True
 
     def _blocked(self, x, y, theta, linear, angular, dt):
         """Check the footprint along the path of each robot translating near a wall."""

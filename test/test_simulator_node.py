@@ -1,9 +1,10 @@
 """The stdr_lite node in-process: commands in, odometry, map and clock out."""
 
+import functools
 import math
 import time
 
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
 import pytest
 from rclpy.node import Node
@@ -11,6 +12,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from ros_helpers import overrides, spin_until, wait_for_subscribers
 from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import LaserScan, Range
+from std_msgs.msg import String
 
 from stdr_lite.node_runtime import ConfigError
 from stdr_lite.pose import yaw_from_quaternion
@@ -67,7 +70,7 @@ def test_twist_moves_the_robot_by_equation_2_each_step(ros_context, executor):
         assert (dx, dy) == pytest.approx((0.016 * math.cos(theta), 0.016 * math.sin(theta)))
         assert yaw_from_quaternion(after.pose.pose.orientation) == pytest.approx(theta + 0.006)
     first = probe.odometry[0]
-    assert (first.header.frame_id, first.child_frame_id) == ('odom', 'base_link')
+    assert (first.header.frame_id, first.child_frame_id) == ('odom', 'robot0/base_link')
 
 
 def test_speeds_are_clamped_to_the_limits(ros_context, executor):
@@ -181,3 +184,83 @@ def test_bad_configuration_is_one_clear_error(ros_context, params, message):
         StdrLite(context=ros_context, parameter_overrides=overrides(**params))
     assert message in str(raised.value)
     assert '\n' not in str(raised.value)
+
+
+def pose_message(x, y, theta):
+    message = PoseWithCovarianceStamped()
+    message.header.frame_id = 'map'
+    message.pose.pose.position.x, message.pose.pose.position.y = x, y
+    message.pose.pose.orientation.z = math.sin(0.5 * theta)
+    message.pose.pose.orientation.w = math.cos(0.5 * theta)
+    return message
+
+
+def latest_poses(node, names):
+    """Subscribe to each robot's odometry; return a dict that keeps the latest (x, y, theta)."""
+    latest = {}
+    for name in names:
+        node.create_subscription(Odometry, f'/{name}/odom', functools.partial(
+            lambda name, message: latest.__setitem__(name, (
+                message.pose.pose.position.x, message.pose.pose.position.y,
+                yaw_from_quaternion(message.pose.pose.orientation))), name), 10)
+    return latest
+
+
+def test_robot_list_teleport_and_refusal(ros_context, executor, tmp_path):
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots:\n  - {pose: [2.0, 2.0, 0.0]}\n  - {name: scout, pose: [4.0, 2.0, '
+                      '3.14]}\n')
+    _, probe = start(ros_context, executor, robots_file=str(robots))
+    latest = latest_poses(probe, ['robot0', 'scout'])
+    spin_until(executor, lambda: len(latest) == 2, what='odometry of both robots')
+    teleport = probe.create_publisher(PoseWithCovarianceStamped, '/scout/initialpose', 10)
+    wait_for_subscribers(executor, teleport)
+    teleport.publish(pose_message(2.2, 2.1, 1.0))
+    spin_for(executor, 0.3)
+    assert latest['scout'] == pytest.approx((4.0, 2.0, 3.14))
+    teleport.publish(pose_message(6.0, 5.0, 1.0))
+    spin_until(executor, lambda: latest['scout'] == pytest.approx((6.0, 5.0, 1.0)),
+               what='the teleported robot')
+    assert latest['robot0'] == pytest.approx((2.0, 2.0, 0.0))
+
+
+def test_robots_come_and_go_while_running(ros_context, executor):
+    simulator, probe = start(ros_context, executor)
+    add = probe.create_publisher(String, '/stdr_lite/add_robot', 10)
+    remove = probe.create_publisher(String, '/stdr_lite/remove_robot', 10)
+    latest = latest_poses(probe, ['scout'])
+    wait_for_subscribers(executor, add)
+    add.publish(String(data='{name: scout, pose: [5.0, 5.0, 0.5]}'))
+    spin_until(executor, lambda: 'scout' in latest, what="the new robot's odometry")
+    assert latest['scout'] == pytest.approx((5.0, 5.0, 0.5))
+    add.publish(String(data='{name: ghost, pose: [5.1, 5.0, 0.0]}'))
+    add.publish(String(data='{pose: [8.0, 8.0, 0.0]}'))
+    spin_until(executor, lambda: probe.count_publishers('/robot1/odom') == 1,
+               what='robot1, named by default')
+    assert probe.count_publishers('/ghost/odom') == 0
+    wait_for_subscribers(executor, remove)
+    remove.publish(String(data='scout'))
+    spin_until(executor, lambda: probe.count_publishers('/scout/odom') == 0,
+               what='the removal')
+    assert probe.count_publishers('/robot0/odom') == 1
+
+
+def test_laser_and_sonars_are_published_with_their_frames(ros_context, executor):
+    start(ros_context, executor, initial_pose=[3.0, 7.5, math.pi])
+    scans, ranges = [], []
+    listener = Node('listener', context=ros_context)
+    executor.add_node(listener)
+    listener.create_subscription(LaserScan, '/robot0/laser_0', scans.append, 10)
+    listener.create_subscription(Range, '/robot0/sonar_0', ranges.append, 10)
+    spin_until(executor, lambda: len(scans) >= 2 and ranges, what='laser and sonar readings')
+    scan = scans[-1]
+    assert scan.header.frame_id == 'robot0/laser_0' and len(scan.ranges) == 667
+    assert (scan.range_min, scan.range_max) == pytest.approx((0.06, 4.09))
+    middle = scan.ranges[333]
+    assert middle == pytest.approx(3.0 - 0.1 - 0.35, abs=0.06)
+    stamps = [Time.from_msg(message.header.stamp).nanoseconds for message in scans]
+    assert stamps[1] - stamps[0] == 100_000_000
+    sonar = ranges[-1]
+    assert sonar.header.frame_id == 'robot0/sonar_0'
+    assert sonar.radiation_type == Range.ULTRASOUND
+    assert sonar.range == pytest.approx(3.0 - 0.15 - 0.35, abs=0.1)
