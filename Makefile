@@ -11,7 +11,7 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
 export ROS_STATIC_PEERS :=
 export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 
-.PHONY: demo lab-session test bench install clean
+.PHONY: demo lab-session swarm test bench install clean
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -19,9 +19,13 @@ demo: install
 lab-session: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/lab_session.sh
 
+swarm: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/swarm.sh
+
 bench: install
 	$(PYTHON) bench/controller.py
 	$(PYTHON) bench/realtime.py
+	$(PYTHON) bench/viewer.py
 
 test: install
 	$(PYTHON) -m pytest

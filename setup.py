@@ -21,7 +21,7 @@ setup(
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml'))),
     ],
     python_requires='>=3.10',
-    install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy'],
+    install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'pygame'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',
@@ -35,6 +35,7 @@ setup(
             'waypoint_controller = waypoint_controller.controller_node:main',
             'course_monitor = waypoint_controller.monitor_node:main',
             'plot_run = waypoint_controller.run_plot:main',
+            'stdr_viewer = stdr_lite.viewer_node:main',
         ],
     },
 )

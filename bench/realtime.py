@@ -7,7 +7,8 @@ once with both nodes in this process on one EventsExecutor, once with the contro
 separate process. The real-time factor is simulated seconds per wall second from the first
 step to FINISHED; the control-step latency is the wall time from publishing odometry to
 receiving the cmd_vel that answers it. Each configuration runs several times and the run with
-the median RTF is shown. Last, the bare World steps N robots with wall collision.
+the median RTF is shown. Last, the bare World steps N robots with wall and robot collision,
+and the sensors of ten robots are read.
 """
 
 import argparse
@@ -27,6 +28,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
 from stdr_lite.occupancy_map import load_map
+from stdr_lite.robot_description import load_robot
+from stdr_lite.sensors import RangeFinder, read_sensors
 from stdr_lite.share import shared_file
 from stdr_lite.simulator_node import StdrLite
 from stdr_lite.world import PlacementError, World
@@ -93,10 +96,8 @@ def drive_course(course, separate_process):
         rclpy.try_shutdown(context=context)
 
 
-def robot_steps_per_second(robot_count, steps, seed=1):
-    """Step robot_count robots with random commands in the lab room; robot-steps per second."""
-    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
-    rng = np.random.default_rng(seed)
+def place_robots(world, robot_count, rng):
+    """Add robot_count robots of radius 0.2 m at random free places."""
     width, height = world.map.width * world.map.resolution, world.map.height * world.map.resolution
     while world.robot_count < robot_count:
         pose = (rng.uniform(0.0, width), rng.uniform(0.0, height), rng.uniform(-np.pi, np.pi))
@@ -104,6 +105,13 @@ def robot_steps_per_second(robot_count, steps, seed=1):
             world.add_robot(pose, 0.2)
         except PlacementError:
             continue
+
+
+def robot_steps_per_second(robot_count, steps, seed=1):
+    """Step robot_count robots with random commands in the lab room; robot-steps per second."""
+    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
+    rng = np.random.default_rng(seed)
+    place_robots(world, robot_count, rng)
     linear = rng.uniform(-0.5, 0.5, robot_count)
     angular = rng.uniform(-1.0, 1.0, robot_count)
     started = time.perf_counter()
@@ -117,6 +125,22 @@ def keep_dds_on_loopback():
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     os.environ['ROS_STATIC_PEERS'] = ''
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 100)))
+
+
+def sensor_load(robot_count=10, repeats=20, seed=2):
+    """Fraction of one core that robot_count lab robots' lasers and sonars take at 10 Hz."""
+    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
+    description = load_robot(shared_file('robots', 'lab_robot.yaml'))
+    rng = np.random.default_rng(seed)
+    place_robots(world, robot_count, rng)
+    finder = RangeFinder(world.map)
+    jobs = [(index, spec) for index in range(robot_count)
+            for spec in description.lasers + description.sonars]
+    started = time.perf_counter()
+    for _ in range(repeats):
+        read_sensors(finder, world.poses, world.radii, jobs, rng)
+    seconds_per_scan = (time.perf_counter() - started) / repeats
+    return seconds_per_scan * min(spec.frequency for _, spec in jobs)
 
 
 def main(argv=None):
@@ -142,6 +166,8 @@ def main(argv=None):
     for count in args.robots:
         rate = robot_steps_per_second(count, steps=max(200, 20000 // count))
         print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f}', flush=True)
+    print(f'sensors of 10 lab robots (667-ray laser, 5 sonars, 10 Hz each): '
+          f'{sensor_load():.1%} of one core')
     return 0
 
 

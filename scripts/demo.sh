@@ -2,12 +2,13 @@
 # The main job: stdr_lite and waypoint_controller as two processes on a bundled course, in
 # lockstep. course_monitor prints every robot_status message as it arrives with a progress line
 # and records the run; plot_run then draws it to run.png. The demo ends when the controller does
-# and exits with its code.
+# and exits with its code. VIEWER=1 also opens stdr_viewer to watch the run live.
 set -euo pipefail
 : "${ROS_AUTOMATIC_DISCOVERY_RANGE:?must be LOCALHOST; run through make demo}"
 : "${ROS_DOMAIN_ID:?run through make demo}"
 course=${COURSE:-$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control/waypoints/lab_tour.txt}
 speed=${REAL_TIME_FACTOR:-4.0}
+[[ $speed == *.* ]] || speed=$speed.0  # ROS wants a double parameter written as one
 record=${RECORD:-run.jsonl}
 picture=${PICTURE:-run.png}
 
@@ -15,11 +16,25 @@ stdr_lite --ros-args -p lockstep:=true -p real_time_factor:="$speed" --log-level
 simulator=$!
 course_monitor "$course" --ros-args -p record_file:="$record" --log-level warn &
 monitor=$!
-trap 'kill -INT $simulator $monitor 2>/dev/null; wait $simulator $monitor 2>/dev/null || true' EXIT
+viewer=
+if [ -n "${VIEWER:-}" ]; then
+    # A window where there is a display; offscreen otherwise, leaving its last frame.
+    [ -n "${DISPLAY:-}" ] || export SDL_VIDEODRIVER=dummy
+    stdr_viewer --ros-args -p screenshot:=viewer.png --log-level warn &
+    viewer=$!
+fi
+trap 'kill -INT $simulator $monitor $viewer 2>/dev/null; wait $simulator $monitor $viewer 2>/dev/null || true' EXIT
 
 echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast as it goes):"
+waypoint_controller "$course" --ros-args --log-level warn &
+controller=$!
 status=0
-waypoint_controller "$course" --ros-args --log-level warn || status=$?
+wait -n -p ended $simulator $controller || status=$?
+if [ "$ended" != "$controller" ]; then
+    echo "demo: stdr_lite ended (exit code $status) before the controller finished" >&2
+    kill -INT $controller 2>/dev/null || true
+    exit 1
+fi
 # The monitor ends by itself on FINISHED or ABORTED; after bad input there is nothing to wait for,
 # and should the controller have died without a last word, the monitor is stopped after 10 s.
 if [ "$status" -le 1 ]; then

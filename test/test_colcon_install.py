@@ -9,7 +9,8 @@ import pytest
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 PACKAGE = 'simple_robot_control'
-EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller', 'course_monitor', 'plot_run']
+EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller', 'course_monitor', 'plot_run',
+               'stdr_viewer']
 
 
 @pytest.fixture(scope='module')

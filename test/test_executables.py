@@ -11,7 +11,7 @@ POSE_LINE = re.compile(r'Current position, x: (\S+), y: (\S+), theta: (\S+)')
 
 
 @pytest.mark.parametrize('name', ['stdr_lite', 'move_robot', 'waypoint_controller',
-                                  'course_monitor'])
+                                  'course_monitor', 'stdr_viewer'])
 def test_help_lists_the_ros_parameters(name):
     result = run(name, '--help')
     assert result.returncode == 0

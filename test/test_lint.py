@@ -8,7 +8,7 @@ import pytest
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 SOURCES = [str(REPOSITORY / name) for name in
-           ('stdr_lite', 'waypoint_controller', 'test', 'bench', 'launch', 'setup.py')
+           ('stdr_lite', 'waypoint_controller', 'test', 'bench', 'launch', 'scripts', 'setup.py')
            if (REPOSITORY / name).exists()]
 
 
