@@ -14,6 +14,8 @@ ARGUMENTS = {
     'integrator': ('euler', 'euler or arc', str),
     'lockstep': ('false', 'step only once the controller has answered the last odometry',
                  bool),
+    'robot_description': ('', 'STDR robot YAML; empty for the bundled lab robot', str),
+    'robots_file': ('', 'robot list YAML; empty for one robot, robot0', str),
 }
 
 

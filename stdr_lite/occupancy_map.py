@@ -6,7 +6,8 @@ import os
 
 import numpy as np
 from PIL import Image
-import yaml
+
+from stdr_lite.yaml_file import read_yaml
 
 OCCUPIED = 100
 FREE = 0
@@ -47,15 +48,7 @@ class OccupancyMap:
 def load_map(yaml_path):
     """Load a map_server YAML file and its image; raise MapError on any problem."""
     yaml_path = os.fspath(yaml_path)
-    try:
-        with open(yaml_path, encoding='utf-8') as stream:
-            description = yaml.safe_load(stream)
-    except OSError as error:
-        raise MapError(f'{yaml_path}: cannot read map file: {error.strerror}') from None
-    except yaml.YAMLError as error:
-        mark = getattr(error, 'problem_mark', None)
-        where = f' at line {mark.line + 1}' if mark is not None else ''
-        raise MapError(f'{yaml_path}: not valid YAML{where}') from None
+    description = read_yaml(yaml_path, 'map file', MapError)
     if not isinstance(description, dict):
         raise MapError(f'{yaml_path}: expected a mapping of map fields, got {description!r}')
     fields = _validated_fields(yaml_path, description)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import math
 import os
 
-import yaml
+from stdr_lite.yaml_file import read_yaml
 
 
 class RobotFileError(ValueError):
@@ -63,16 +63,7 @@ class RobotDescription:
 def load_robot(path):
     """Read and check an STDR robot YAML file."""
     path = os.fspath(path)
-    try:
-        with open(path, encoding='utf-8') as stream:
-            data = yaml.safe_load(stream)
-    except OSError as error:
-        raise RobotFileError(f'{path}: cannot read robot file: {error.strerror}') from None
-    except yaml.YAMLError as error:
-        where = getattr(error, 'problem_mark', None)
-        line = f':{where.line + 1}' if where is not None else ''
-        raise RobotFileError(f'{path}{line}: not valid YAML') from None
-    return parse_robot(data, path)
+    return parse_robot(read_yaml(path, 'robot file', RobotFileError), path)
 
 
 def parse_robot(data, source='<robot>'):
@@ -206,13 +197,7 @@ def load_robot_list(path, default_description):
     description's initial_pose.
     """
     path = os.fspath(path)
-    try:
-        with open(path, encoding='utf-8') as stream:
-            data = yaml.safe_load(stream)
-    except OSError as error:
-        raise RobotFileError(f'{path}: cannot read robot list: {error.strerror}') from None
-    except yaml.YAMLError:
-        raise RobotFileError(f'{path}: not valid YAML') from None
+    data = read_yaml(path, 'robot list', RobotFileError)
     reader = _Reader(path)
     robots = reader.sequence(reader.mapping(data, ''), 'robots', '')
     if not robots:

@@ -69,7 +69,7 @@ def test_bundled_lab_room_is_a_walled_20_by_15_metre_room():
 
 
 BAD_YAML = {
-    'not_yaml': ('image: [unclosed', 'not valid YAML at line'),
+    'not_yaml': ('image: [unclosed', 'map file is not valid YAML'),
     'not_a_mapping': ('- just\n- a list\n', 'expected a mapping'),
     'missing_field': ('image: x.pgm\nresolution: 0.05\n', "missing required field 'origin'"),
     'unknown_field': ('image: x.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nocupied_thresh: 1\n',

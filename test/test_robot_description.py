@@ -97,7 +97,7 @@ def test_unreadable_robot_file_is_named(tmp_path):
         load_robot(tmp_path / 'missing.yaml')
     broken = tmp_path / 'broken.yaml'
     broken.write_text('footprint: [\n')
-    with pytest.raises(RobotFileError, match='broken.yaml:2: not valid YAML'):
+    with pytest.raises(RobotFileError, match='broken.yaml:2: robot file is not valid YAML'):
         load_robot(broken)
 
 
