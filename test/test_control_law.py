@@ -147,3 +147,32 @@ def test_errors_are_measured_to_the_current_waypoint():
     distance, heading_error = follower.errors((0.0, 0.0, math.radians(-170)))
     assert distance == pytest.approx(5.0)
     assert heading_error == pytest.approx(math.radians(-20))
+
+
+def test_pivoting_turns_in_place_until_the_goal_is_ahead_then_drives():
+    controller = PoseController(CONFIG)
+    controller.start((0.0, 0.0, 0.0), Waypoint(0.0, 1.0, 0.0), backward=False,
+                     approach_gain=0.0, pivot=True)
+    pose, commands = (0.0, 0.0, 0.0), []
+    while len(commands) < 60:
+        linear, angular = controller.command(pose, 0.05)
+        commands.append((linear, angular))
+        pose = tuple(float(value) for value in arc_step(*pose, linear, angular, 0.05))
+    turning = [command for command in commands if command[0] == 0.0]
+    assert commands[:len(turning)] == turning
+    assert all(angular == pytest.approx(CONFIG.max_angular_speed) for _, angular in turning[:-1])
+    assert commands[len(turning)][0] > 0.0
+    assert abs(wrap(math.pi / 2 - pose[2])) < math.radians(10)
+
+
+def test_a_sidestep_is_taken_by_pivoting_and_faster_than_by_curving():
+    sidestep = Waypoint(0.0, 0.6, 0.0)
+    controller = PoseController(CONFIG)
+    controller.start((0.0, 0.0, 0.0), sidestep)
+    assert controller.pivoting
+    _, elapsed = simulate([sidestep], (0.0, 0.0, 0.0))
+    curving = PoseController(CONFIG)
+    curving.waypoint = sidestep
+    quickest_curve = min(curving._predict((0.0, 0.0, 0.0), backward, gain, False, math.inf)
+                         for backward in (False, True) for gain in (0.0, 0.25, 0.75, 2.0))
+    assert elapsed < quickest_curve - 1.0

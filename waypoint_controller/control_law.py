@@ -4,8 +4,9 @@ The waypoint control law: pose in, (v, omega) out. Pure Python, no ROS.
 Far from the goal a heading PID steers towards a guidance direction: the line of sight to the
 goal, bent towards the goal's heading axis so that the robot arrives already facing the goal
 heading and passes intermediate waypoints without stopping. For each waypoint the law picks
-forward or backward travel and how strongly to bend (the approach gain) by simulating itself
-for every combination and keeping the quickest. The bend stays below 90 degrees,
+forward or backward travel, how strongly to bend (the approach gain, 0 for none) and whether
+to pivot towards the goal before driving (the quick way to sidestep) by simulating itself for
+every combination and keeping the quickest. The bend stays below 90 degrees,
 so the robot always closes in on the goal. Speed comes from a distance PID, at full speed while
 turning, capped so that the goal never falls inside the turning circle (so the robot never
 orbits it), and zero while the goal is more than 90 degrees off the direction of travel. Well
@@ -19,7 +20,8 @@ import math
 from waypoint_controller.pid import PID
 
 
-APPROACH_GAINS = (0.25, 0.75, 2.0)
+APPROACH_GAINS = (0.0, 0.25, 0.75, 2.0)
+PIVOT_ALIGNED = math.radians(5.0)
 PREDICTION_STEP = 0.1
 PREDICTION_HORIZON = 60.0
 
@@ -96,38 +98,41 @@ class PoseController:
         self.waypoint = None
         self.backward = False
         self.rotating = False
+        self.pivoting = False
 
-    def start(self, pose, waypoint, backward=None, approach_gain=None):
+    def start(self, pose, waypoint, backward=None, approach_gain=None, pivot=False):
         """
         Aim at a new waypoint from pose.
 
-        Unless given, the direction of travel and the approach gain are chosen by simulating
-        this law for each candidate and keeping the quickest.
+        Unless given, the direction of travel, the approach gain and whether to pivot towards
+        the goal before driving are chosen by simulating this law for each candidate and
+        keeping the quickest.
         """
         self.waypoint = waypoint
         self._heading_pid.reset()
         self._distance_pid.reset()
         self.rotating = False
         if backward is None:
-            backward, approach_gain = self._quickest_manoeuvre(pose)
+            backward, approach_gain, pivot = self._quickest_manoeuvre(pose)
         self.backward = backward
         self.approach_gain = approach_gain
+        self.pivoting = pivot
 
     def _quickest_manoeuvre(self, pose):
-        candidates = sorted(((backward, gain) for backward in (False, True)
-                             for gain in APPROACH_GAINS),
+        candidates = sorted(((backward, gain, pivot) for backward in (False, True)
+                             for gain in APPROACH_GAINS for pivot in (False, True)),
                             key=lambda candidate: self._travel_time(pose, candidate[0]))
         best, best_time = candidates[0], math.inf
-        for backward, gain in candidates:
-            predicted = self._predict(pose, backward, gain, limit=best_time)
+        for candidate in candidates:
+            predicted = self._predict(pose, *candidate, limit=best_time)
             if predicted < best_time:
-                best, best_time = (backward, gain), predicted
+                best, best_time = candidate, predicted
         return best
 
-    def _predict(self, pose, backward, gain, limit):
+    def _predict(self, pose, backward, gain, pivot, limit):
         """Seconds this law would take to the goal set with these choices (inf past limit)."""
         model = PoseController(self.config)
-        model.start(pose, self.waypoint, backward, gain)
+        model.start(pose, self.waypoint, backward, gain, pivot)
         elapsed = 0.0
         while not in_goal_set(pose, self.waypoint, self.config):
             if elapsed >= min(limit, PREDICTION_HORIZON):
@@ -163,6 +168,11 @@ class PoseController:
         flip = math.pi if self.backward else 0.0
         travel_heading = theta + flip
         line_of_sight = math.atan2(goal.y - y, goal.x - x)
+        if self.pivoting:
+            sight_error = wrap(line_of_sight - travel_heading)
+            if abs(sight_error) > PIVOT_ALIGNED:
+                return 0.0, self._rotate_in_place(sight_error, dt)
+            self.pivoting = False
         lead = math.atan(self.approach_gain * wrap(line_of_sight - goal.theta - flip))
         heading_error = wrap(line_of_sight + lead - travel_heading)
         angular = self._heading_pid.update(heading_error, dt,
