@@ -8,6 +8,7 @@ Other robots are circles, met exactly. Readings follow REP-117: no return within
 +inf, a return closer than min_range is -inf.
 """
 
+import functools
 import math
 
 import numpy as np
@@ -15,7 +16,7 @@ from scipy.ndimage import distance_transform_edt
 
 from stdr_lite.robot_description import LaserSpec
 
-MAX_STRIDES = 400
+GRAZING_STRIDES = 4
 SONAR_RAYS = 9
 
 
@@ -31,8 +32,11 @@ class RangeFinder:
         # Centre-to-centre distance to the nearest occupied cell, less one cell diagonal:
         # no point of this cell is closer than that to any point of an occupied cell.
         cells = distance_transform_edt(~occupancy_map.occupied)
-        self._clearance = np.where(occupancy_map.occupied, -1.0,
-                                   np.maximum(cells - math.sqrt(2.0), 0.0) * self.resolution)
+        # A border of -1 stands for everything outside the map: indices are clipped onto it.
+        self._clearance = np.pad(
+            np.where(occupancy_map.occupied, -1.0,
+                     np.maximum(cells - math.sqrt(2.0), 0.0) * self.resolution),
+            1, constant_values=-1.0)
 
     def cast(self, x, y, angle, max_range, circles=None):
         """
@@ -50,26 +54,59 @@ class RangeFinder:
         return np.where(distance <= max_range, distance, np.inf)
 
     def _cast_at_walls(self, x, y, cos_angle, sin_angle, max_range):
+        # Rays in the padded grid's cell coordinates: a point t metres along a ray lies in
+        # cell (column + t * column_rate, row + t * row_rate), truncated.
+        map_x, map_y = self._to_map_frame(x, y)
+        column, row = map_x / self.resolution + 1.0, map_y / self.resolution + 1.0
+        column_rate = (self._cos_yaw * cos_angle + self._sin_yaw * sin_angle) / self.resolution
+        row_rate = (-self._sin_yaw * cos_angle + self._cos_yaw * sin_angle) / self.resolution
+        rays = (column, row, column_rate, row_rate)
         travelled = np.zeros_like(x)
         result = np.full_like(x, np.inf)
+        slow_strides = np.zeros(x.size, dtype=np.int64)
         active = np.arange(x.size)
+        grazing = []
         half_cell = 0.5 * self.resolution
-        for _ in range(MAX_STRIDES):
-            if active.size == 0:
-                break
+        while active.size:
             step = travelled[active]
-            map_x, map_y = self._to_map_frame(x[active] + step * cos_angle[active],
-                                              y[active] + step * sin_angle[active])
-            cols = np.floor(map_x / self.resolution).astype(np.int64)
-            rows = np.floor(map_y / self.resolution).astype(np.int64)
-            inside = (rows >= 0) & (rows < self._height) & (cols >= 0) & (cols < self._width)
-            clearance = np.full(active.size, -1.0)
-            clearance[inside] = self._clearance[rows[inside], cols[inside]]
+            clearance = self._clearance_along(*(part[active] for part in rays), step)
             hit = clearance < 0.0
             result[active[hit]] = step[hit]
             travelled[active] = step + np.maximum(clearance, half_cell)
-            active = active[~hit & (travelled[active] <= max_range[active])]
+            slow_strides[active] = np.where(clearance <= half_cell, slow_strides[active] + 1, 0)
+            going = ~hit & (travelled[active] <= max_range[active])
+            grazes = going & (slow_strides[active] >= GRAZING_STRIDES)
+            grazing.append(active[grazes])
+            active = active[going & ~grazes]
+        grazing = np.concatenate(grazing)
+        if grazing.size:
+            result[grazing] = self._march(*(part[grazing] for part in rays),
+                                          travelled[grazing], max_range[grazing])
         return result
+
+    def _march(self, column, row, column_rate, row_rate, start, max_range):
+        """
+        Finish rays that graze a wall in one batch of half-cell steps.
+
+        Sphere tracing would take one loop pass per half cell for them, each pass costing the
+        same fixed overhead however few rays remain. Whether a ray grazes depends on its own
+        strides only, so a reading never depends on which other rays were cast with it.
+        """
+        offsets = np.arange(0.0, float(np.max(max_range - start)) + self.resolution,
+                            0.5 * self.resolution)
+        along = start[:, None] + offsets[None, :]
+        blocked = self._clearance_along(column[:, None], row[:, None], column_rate[:, None],
+                                        row_rate[:, None], along) < 0.0
+        blocked &= along <= max_range[:, None] + 0.5 * self.resolution
+        first = np.argmax(blocked, axis=1)
+        return np.where(blocked[np.arange(column.size), first],
+                        along[np.arange(column.size), first], np.inf)
+
+    def _clearance_along(self, column, row, column_rate, row_rate, distance):
+        """Clearance of the cells distance along rays; -1 in occupied cells and off the map."""
+        columns = np.clip(column + distance * column_rate, 0.0, self._width + 1.0)
+        rows = np.clip(row + distance * row_rate, 0.0, self._height + 1.0)
+        return self._clearance[rows.astype(np.intp), columns.astype(np.intp)]
 
     def _to_map_frame(self, x, y):
         dx, dy = x - self._origin[0], y - self._origin[1]
@@ -102,26 +139,35 @@ def sensor_origin(robot_pose, sensor_pose):
             y + sin_theta * offset_x + cos_theta * offset_y, theta + offset_theta)
 
 
-def laser_angles(spec):
-    """Return the ray angles relative to the laser, min_angle to max_angle inclusive."""
-    if spec.num_rays == 1:
-        return np.array([spec.min_angle])
-    return np.linspace(spec.min_angle, spec.max_angle, spec.num_rays)
+@functools.lru_cache(maxsize=256)
+def relative_angles(spec):
+    """
+    Return the ray angles of a sensor relative to it (read-only, cached per description).
+
+    A laser's rays run from min_angle to max_angle inclusive; a sonar cone is sampled by
+    SONAR_RAYS rays across its cone_angle.
+    """
+    if isinstance(spec, LaserSpec):
+        angles = (np.array([spec.min_angle]) if spec.num_rays == 1
+                  else np.linspace(spec.min_angle, spec.max_angle, spec.num_rays))
+    else:
+        angles = np.linspace(-0.5 * spec.cone_angle, 0.5 * spec.cone_angle, SONAR_RAYS)
+    angles.flags.writeable = False
+    return angles
 
 
-def sonar_angles(spec):
-    """Return the angles of the rays that sample a sonar cone, relative to the sonar."""
-    return np.linspace(-0.5 * spec.cone_angle, 0.5 * spec.cone_angle, SONAR_RAYS)
+def apply_noise_and_limits(distances, means, stds, min_ranges, max_ranges, rng):
+    """
+    Add Gaussian noise (per reading mean and std) to returns, then mark REP-117 limits.
 
-
-def apply_noise_and_limits(distances, spec, rng):
-    """Add the described Gaussian noise to returns, then mark REP-117 out-of-range values."""
+    Every argument but rng has one value per reading; readings with no return stay +inf.
+    """
     distances = np.array(distances, dtype=float)
     returned = np.isfinite(distances)
-    if spec.noise.mean or spec.noise.std:
-        distances[returned] += rng.normal(spec.noise.mean, spec.noise.std, returned.sum())
-    distances[returned & (distances > spec.max_range)] = np.inf
-    distances[returned & (distances < spec.min_range)] = -np.inf
+    distances[returned] += means[returned] + stds[returned] * rng.standard_normal(
+        int(returned.sum()))
+    distances[returned & (distances > max_ranges)] = np.inf
+    distances[returned & (distances < min_ranges)] = -np.inf
     return distances
 
 
@@ -133,26 +179,32 @@ def read_sensors(finder, poses, radii, jobs, rng):
     ranges or the sonar's single range (the nearest return across its cone), noise and
     REP-117 limits applied.
     """
-    origins, angles, reaches, owners, sizes = [], [], [], [], []
-    for index, spec in jobs:
-        x, y, heading = sensor_origin(poses[index], spec.pose)
-        relative = laser_angles(spec) if isinstance(spec, LaserSpec) else sonar_angles(spec)
-        origins.append(np.broadcast_to([x, y], (relative.size, 2)))
-        angles.append(heading + relative)
-        reaches.append(np.full(relative.size, spec.max_range))
-        owners.append(np.full(relative.size, index))
-        sizes.append(relative.size)
     if not jobs:
         return []
-    origins = np.concatenate(origins)
-    owners = np.concatenate(owners)
-    distances = finder.cast(origins[:, 0], origins[:, 1], np.concatenate(angles),
-                            np.concatenate(reaches),
-                            circles=(poses[:, 0], poses[:, 1], radii, owners))
-    readings = []
-    for (_, spec), chunk in zip(jobs, np.split(distances, np.cumsum(sizes)[:-1])):
-        if isinstance(spec, LaserSpec):
-            readings.append(apply_noise_and_limits(chunk, spec, rng))
-        else:
-            readings.append(float(apply_noise_and_limits([chunk.min()], spec, rng)[0]))
-    return readings
+    origins = np.array([sensor_origin(poses[index], spec.pose) for index, spec in jobs])
+    relative = [relative_angles(spec) for _, spec in jobs]
+    sizes = np.array([angles.size for angles in relative])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    specs = [spec for _, spec in jobs]
+    per_job = {name: np.array([getattr(spec, name) for spec in specs])
+               for name in ('min_range', 'max_range')}
+    distances = finder.cast(
+        np.repeat(origins[:, 0], sizes), np.repeat(origins[:, 1], sizes),
+        np.repeat(origins[:, 2], sizes) + np.concatenate(relative),
+        np.repeat(per_job['max_range'], sizes),
+        circles=(poses[:, 0], poses[:, 1], radii,
+                 np.repeat([index for index, _ in jobs], sizes)))
+    is_laser = np.array([isinstance(spec, LaserSpec) for spec in specs])
+    nearest = np.minimum.reduceat(distances, starts)
+    means = np.array([spec.noise.mean for spec in specs])
+    stds = np.array([spec.noise.std for spec in specs])
+    laser_rays = np.repeat(is_laser, sizes)
+    laser_values = apply_noise_and_limits(
+        distances[laser_rays], *(np.repeat(values, sizes)[laser_rays] for values in (
+            means, stds, per_job['min_range'], per_job['max_range'])), rng)
+    sonar_values = apply_noise_and_limits(
+        nearest[~is_laser], means[~is_laser], stds[~is_laser],
+        per_job['min_range'][~is_laser], per_job['max_range'][~is_laser], rng)
+    laser_chunks = iter(np.split(laser_values, np.cumsum(sizes[is_laser])[:-1]))
+    sonar_readings = iter(sonar_values.tolist())
+    return [next(laser_chunks) if laser else next(sonar_readings) for laser in is_laser]
