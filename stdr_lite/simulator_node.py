@@ -132,7 +132,10 @@ class StdrLite(Node):
         self._indices = {}
         self._applied = (np.zeros(0), np.zeros(0))
         for entry in entries:
-            self._add(entry)
+            try:
+                self._add(entry)
+            except PlacementError as error:
+                raise ConfigError(f'{entry.name} in {self._map_name}: {error}') from None
         self.create_subscription(String, '~/add_robot', self._on_add_robot, 10)
         self.create_subscription(String, '~/remove_robot', self._on_remove_robot, 10)
         self._clock_publisher = self.create_publisher(ClockMsg, '/clock', 10)
@@ -216,13 +219,7 @@ class StdrLite(Node):
             raise ConfigError(str(error)) from None
         self._map_name = map_yaml
         largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius for entry in entries])
-        world = World(occupancy_map, largest, params['integrator'])
-        try:
-            for entry in entries:
-                world.check_placement(entry.pose, entry.description.radius)
-        except PlacementError as error:
-            raise ConfigError(f'{entry.name} in {map_yaml}: {error}') from None
-        return world
+        return World(occupancy_map, largest, params['integrator'])
 
     def _add(self, entry):
         """Place a robot and give it topics; PlacementError leaves everything unchanged."""

@@ -178,8 +178,20 @@ def test_late_subscriber_receives_the_map(ros_context, executor):
     ({'rate_hz': 0.0}, 'rate_hz must be positive'),
     ({'integrator': 'rk4'}, "integrator must be one of euler, arc, got 'rk4'"),
     ({'rate_hz': 50}, 'write a double with a decimal point'),
+    ({'robots_file': '/no/robots.yaml'}, '/no/robots.yaml: cannot read robot list'),
+    ({'robot_description': '/no/robot.yaml'}, '/no/robot.yaml: cannot read robot file'),
+    ({'robots_file': 'ROBOTS', 'robot_name': 'solo'}, 'robots_file lists the robots; drop '
+     'robot_name'),
+    ({'robots_file': 'CROWDED'}, 'robot1 in '),
 ])
-def test_bad_configuration_is_one_clear_error(ros_context, params, message):
+def test_bad_configuration_is_one_clear_error(ros_context, tmp_path, params, message):
+    lists = {'ROBOTS': 'robots:\n  - {}\n',
+             'CROWDED': 'robots:\n  - {pose: [3, 3, 0]}\n  - {pose: [3.2, 3, 0]}\n'}
+    for key, value in params.items():
+        if isinstance(value, str) and value in lists:
+            path = tmp_path / f'{value.lower()}.yaml'
+            path.write_text(lists[value])
+            params[key] = str(path)
     with pytest.raises(ConfigError) as raised:
         StdrLite(context=ros_context, parameter_overrides=overrides(**params))
     assert message in str(raised.value)
