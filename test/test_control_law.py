@@ -152,7 +152,7 @@ def test_errors_are_measured_to_the_current_waypoint():
 def test_pivoting_turns_in_place_until_the_goal_is_ahead_then_drives():
     controller = PoseController(CONFIG)
     controller.start((0.0, 0.0, 0.0), Waypoint(0.0, 1.0, 0.0), backward=False,
-                     approach_gain=0.0, pivot=True)
+                     approach_gain=0.0, pivot=math.radians(5.0))
     pose, commands = (0.0, 0.0, 0.0), []
     while len(commands) < 60:
         linear, angular = controller.command(pose, 0.05)
@@ -169,10 +169,10 @@ def test_a_sidestep_is_taken_by_pivoting_and_faster_than_by_curving():
     sidestep = Waypoint(0.0, 0.6, 0.0)
     controller = PoseController(CONFIG)
     controller.start((0.0, 0.0, 0.0), sidestep)
-    assert controller.pivoting
+    assert controller.pivoting is not None
     _, elapsed = simulate([sidestep], (0.0, 0.0, 0.0))
     curving = PoseController(CONFIG)
     curving.waypoint = sidestep
-    quickest_curve = min(curving._predict((0.0, 0.0, 0.0), backward, gain, False, math.inf)
+    quickest_curve = min(curving._predict((0.0, 0.0, 0.0), backward, gain, None, math.inf)
                          for backward in (False, True) for gain in (0.0, 0.25, 0.75, 2.0))
     assert elapsed < quickest_curve - 1.0

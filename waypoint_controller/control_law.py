@@ -5,8 +5,8 @@ Far from the goal a heading PID steers towards a guidance direction: the line of
 goal, bent towards the goal's heading axis so that the robot arrives already facing the goal
 heading and passes intermediate waypoints without stopping. For each waypoint the law picks
 forward or backward travel, how strongly to bend (the approach gain, 0 for none) and whether
-to pivot towards the goal before driving (the quick way to sidestep) by simulating itself for
-every combination and keeping the quickest. The bend stays below 90 degrees,
+to pivot towards the goal before driving, and how far (the quick way to sidestep), by
+simulating itself for every combination and keeping the quickest. The bend stays below 90 degrees,
 so the robot always closes in on the goal. Speed comes from a distance PID, at full speed while
 turning, capped so that the goal never falls inside the turning circle (so the robot never
 orbits it), and zero while the goal is more than 90 degrees off the direction of travel. Well
@@ -21,7 +21,7 @@ from waypoint_controller.pid import PID
 
 
 APPROACH_GAINS = (0.0, 0.25, 0.75, 2.0)
-PIVOT_ALIGNED = math.radians(5.0)
+PIVOT_THRESHOLDS = (None, math.radians(5.0), math.radians(30.0), math.radians(60.0))
 PREDICTION_STEP = 0.1
 PREDICTION_HORIZON = 60.0
 
@@ -98,15 +98,15 @@ class PoseController:
         self.waypoint = None
         self.backward = False
         self.rotating = False
-        self.pivoting = False
+        self.pivoting = None
 
-    def start(self, pose, waypoint, backward=None, approach_gain=None, pivot=False):
+    def start(self, pose, waypoint, backward=None, approach_gain=None, pivot=None):
         """
         Aim at a new waypoint from pose.
 
-        Unless given, the direction of travel, the approach gain and whether to pivot towards
-        the goal before driving are chosen by simulating this law for each candidate and
-        keeping the quickest.
+        Unless given, the direction of travel, the approach gain and the pivot (None, or how
+        far off the goal may be before driving starts: the robot first turns in place until
+        it is) are chosen by simulating this law for each candidate and keeping the quickest.
         """
         self.waypoint = waypoint
         self._heading_pid.reset()
@@ -120,7 +120,7 @@ class PoseController:
 
     def _quickest_manoeuvre(self, pose):
         candidates = sorted(((backward, gain, pivot) for backward in (False, True)
-                             for gain in APPROACH_GAINS for pivot in (False, True)),
+                             for gain in APPROACH_GAINS for pivot in PIVOT_THRESHOLDS),
                             key=lambda candidate: self._travel_time(pose, candidate[0]))
         best, best_time = candidates[0], math.inf
         for candidate in candidates:
@@ -168,11 +168,11 @@ class PoseController:
         flip = math.pi if self.backward else 0.0
         travel_heading = theta + flip
         line_of_sight = math.atan2(goal.y - y, goal.x - x)
-        if self.pivoting:
+        if self.pivoting is not None:
             sight_error = wrap(line_of_sight - travel_heading)
-            if abs(sight_error) > PIVOT_ALIGNED:
+            if abs(sight_error) > self.pivoting:
                 return 0.0, self._rotate_in_place(sight_error, dt)
-            self.pivoting = False
+            self.pivoting = None
         lead = math.atan(self.approach_gain * wrap(line_of_sight - goal.theta - flip))
         heading_error = wrap(line_of_sight + lead - travel_heading)
         angular = self._heading_pid.update(heading_error, dt,
