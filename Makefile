@@ -24,6 +24,7 @@ swarm: install
 
 bench: install
 	$(PYTHON) bench/controller.py
+	$(PYTHON) bench/path_bound.py
 	$(PYTHON) bench/realtime.py
 	$(PYTHON) bench/viewer.py
 
