@@ -28,7 +28,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
 from stdr_lite.occupancy_map import load_map
-from stdr_lite.robot_description import load_robot
+from stdr_lite.robot_description import load_robot_or_default
 from stdr_lite.sensors import RangeFinder, read_sensors
 from stdr_lite.share import shared_file
 from stdr_lite.simulator_node import StdrLite
@@ -134,7 +134,7 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
     Returns one figure per batch of repeated reads, so that the spread shows.
     """
     world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
-    description = load_robot(shared_file('robots', 'lab_robot.yaml'))
+    description = load_robot_or_default('')
     rng = np.random.default_rng(seed)
     place_robots(world, robot_count, rng)
     finder = RangeFinder(world.map)

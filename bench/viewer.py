@@ -12,27 +12,24 @@ import sys
 import time
 
 import numpy as np
+from realtime import place_robots
 
 from stdr_lite.occupancy_map import load_map
 from stdr_lite.pygame_quiet import pygame
-from stdr_lite.robot_description import load_robot
+from stdr_lite.robot_description import load_robot_or_default
 from stdr_lite.sensors import RangeFinder, read_sensors
 from stdr_lite.share import shared_file
 from stdr_lite.viewer_scene import LaserReading, Painter, Scene, SonarReading, View
-from stdr_lite.world import PlacementError, World
+from stdr_lite.world import World
 
 
 def ten_robot_scene(robot_count, seed=4):
     """Build the scene the viewer would have after a while: readings, trails and all."""
     occupancy_map = load_map(shared_file('maps', 'lab_room.yaml'))
-    description = load_robot(shared_file('robots', 'lab_robot.yaml'))
+    description = load_robot_or_default('')
     world = World(occupancy_map, description.radius)
     rng = np.random.default_rng(seed)
-    while world.robot_count < robot_count:
-        try:
-            world.add_robot((rng.uniform(1, 19), rng.uniform(1, 14), rng.uniform(-3, 3)), 0.2)
-        except PlacementError:
-            continue
+    place_robots(world, robot_count, rng)
     scene = Scene()
     scene.set_map(occupancy_map.cells, occupancy_map.resolution, occupancy_map.origin[:2])
     jobs = [(index, spec) for index in range(robot_count)

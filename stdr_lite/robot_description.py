@@ -13,7 +13,10 @@ from dataclasses import dataclass
 import math
 import os
 
+from stdr_lite.share import shared_file
 from stdr_lite.yaml_file import read_yaml
+
+DEFAULT_ROBOT_FILE = 'lab_robot.yaml'
 
 
 class RobotFileError(ValueError):
@@ -64,6 +67,11 @@ def load_robot(path):
     """Read and check an STDR robot YAML file."""
     path = os.fspath(path)
     return parse_robot(read_yaml(path, 'robot file', RobotFileError), path)
+
+
+def load_robot_or_default(path):
+    """Read path, or the bundled lab robot when path is empty."""
+    return load_robot(path or shared_file('robots', DEFAULT_ROBOT_FILE))
 
 
 def parse_robot(data, source='<robot>'):

@@ -24,8 +24,8 @@ from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameter
                                     ParameterSpec, require, run)
 from stdr_lite.occupancy_map import load_map, MapError
 from stdr_lite.pose import yaw_from_quaternion
-from stdr_lite.robot_description import (load_robot, load_robot_list, robot_entry,
-                                         RobotEntry, RobotFileError)
+from stdr_lite.robot_description import (load_robot_list, load_robot_or_default,
+                                         robot_entry, RobotEntry, RobotFileError)
 from stdr_lite.sensors import RangeFinder, read_sensors
 from stdr_lite.share import shared_file
 from stdr_lite.world import PlacementError, World
@@ -36,7 +36,6 @@ NANOSECONDS = 1_000_000_000
 # a controller that started after it was first sent still gets it.
 LOCKSTEP_REPEAT_AFTER = 0.5
 LATENCY_SAMPLES = 100_000
-DEFAULT_ROBOT = 'lab_robot.yaml'
 
 PARAMETERS = (
     ParameterSpec('map_yaml', '', 'map_server YAML file of the world; empty for the bundled '
@@ -191,7 +190,7 @@ class StdrLite(Node):
     @staticmethod
     def _load_description(path):
         try:
-            return load_robot(path or shared_file('robots', DEFAULT_ROBOT))
+            return load_robot_or_default(path)
         except RobotFileError as error:
             raise ConfigError(str(error)) from None
 

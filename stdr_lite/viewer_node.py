@@ -25,8 +25,7 @@ from stdr_lite.node_runtime import (build_parser, ConfigError, declare_parameter
                                     ParameterSpec, require, run)
 from stdr_lite.pose import yaw_from_quaternion
 from stdr_lite.pygame_quiet import pygame
-from stdr_lite.robot_description import load_robot, RobotFileError
-from stdr_lite.share import shared_file
+from stdr_lite.robot_description import load_robot_or_default, RobotFileError
 from stdr_lite.viewer_scene import LaserReading, Painter, Scene, SonarReading, View
 
 DISCOVERY_PERIOD = 1.0
@@ -63,8 +62,7 @@ class StdrViewer(Node):
         require(size[0] >= 200 and size[1] >= 150, f'window too small: {size[0]}x{size[1]}')
         require(1.0 <= params['fps'] <= 120.0, f'fps must lie in [1, 120], got {params["fps"]}')
         try:
-            self._description = load_robot(params['robot_description']
-                                           or shared_file('robots', 'lab_robot.yaml'))
+            self._description = load_robot_or_default(params['robot_description'])
         except RobotFileError as error:
             raise ConfigError(str(error)) from None
         self._screenshot = params['screenshot']

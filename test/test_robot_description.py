@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from stdr_lite.robot_description import (load_robot, load_robot_list, Noise, parse_robot,
-                                         RobotFileError)
+from stdr_lite.robot_description import (load_robot, load_robot_list, load_robot_or_default,
+                                         Noise, parse_robot, RobotFileError)
 from stdr_lite.share import shared_file
 import yaml
 
@@ -106,7 +106,7 @@ def test_robot_list_defaults_names_poses_and_descriptions(tmp_path):
     robots = tmp_path / 'robots.yaml'
     robots.write_text('robots:\n  - {}\n  - {name: scout, description: small.yaml}\n'
                       '  - {pose: [3, 4, 0.5]}\n')
-    default = load_robot(shared_file('robots', 'lab_robot.yaml'))
+    default = load_robot_or_default('')
     entries = load_robot_list(robots, default)
     assert [entry.name for entry in entries] == ['robot0', 'scout', 'robot2']
     assert entries[0].description == default and entries[0].pose == default.initial_pose
@@ -125,5 +125,5 @@ def test_bad_robot_list_is_one_line(tmp_path, text, message):
     robots = tmp_path / 'robots.yaml'
     robots.write_text(text)
     with pytest.raises(RobotFileError) as raised:
-        load_robot_list(robots, load_robot(shared_file('robots', 'lab_robot.yaml')))
+        load_robot_list(robots, load_robot_or_default(''))
     assert message in str(raised.value) and '\n' not in str(raised.value)

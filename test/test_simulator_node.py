@@ -210,11 +210,14 @@ def pose_message(x, y, theta):
 def latest_poses(node, names):
     """Subscribe to each robot's odometry; return a dict that keeps the latest (x, y, theta)."""
     latest = {}
+
+    def remember(name, message):
+        pose = message.pose.pose
+        latest[name] = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+
     for name in names:
-        node.create_subscription(Odometry, f'/{name}/odom', functools.partial(
-            lambda name, message: latest.__setitem__(name, (
-                message.pose.pose.position.x, message.pose.pose.position.y,
-                yaw_from_quaternion(message.pose.pose.orientation))), name), 10)
+        node.create_subscription(Odometry, f'/{name}/odom', functools.partial(remember, name),
+                                 10)
     return latest
 
 
