@@ -11,7 +11,7 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
 export ROS_STATIC_PEERS :=
 export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 
-.PHONY: demo lab-session swarm test bench install clean
+.PHONY: demo lab-session swarm test test-unit test-node test-system bench install clean
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -23,15 +23,20 @@ swarm: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/swarm.sh
 
 bench: install
-	$(PYTHON) bench/controller.py
-	$(PYTHON) bench/path_bound.py
-	$(PYTHON) bench/realtime.py
-	$(PYTHON) bench/viewer.py
+	$(PYTHON) -m bench.controller
+	$(PYTHON) -m bench.path_bound
+	$(PYTHON) -m bench.realtime
+	$(PYTHON) -m bench.viewer
 
 test: install
 	$(PYTHON) -m pytest
 
+# One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
+test-unit test-node test-system: install
+	$(PYTHON) -m pytest test/$(@:test-%=%)
+
 install: $(VENV)/.dependencies
+	rm -rf build
 	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
 
 $(VENV)/.dependencies: requirements/ros-jazzy.txt requirements/test.txt setup.py

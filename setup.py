@@ -10,8 +10,8 @@ SHARE = f'share/{PACKAGE_NAME}'
 setup(
     name=PACKAGE_NAME,
     version='0.1.0',
-    packages=find_packages(include=['stdr_lite', 'stdr_lite.*',
-                                    'waypoint_controller', 'waypoint_controller.*']),
+    packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
+                                    'waypoint_controller']),
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),
@@ -19,6 +19,7 @@ setup(
         (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml'))),
+        (f'{SHARE}/config', sorted(glob('config/*.yaml'))),
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'pygame'],
@@ -30,12 +31,12 @@ setup(
     extras_require={'test': ['pytest', 'hypothesis']},
     entry_points={
         'console_scripts': [
-            'stdr_lite = stdr_lite.simulator_node:main',
-            'move_robot = stdr_lite.move_robot:main',
-            'waypoint_controller = waypoint_controller.controller_node:main',
-            'course_monitor = waypoint_controller.monitor_node:main',
-            'plot_run = waypoint_controller.run_plot:main',
-            'stdr_viewer = stdr_lite.viewer_node:main',
+            'stdr_lite = stdr_lite.node.stdr_lite:main',
+            'move_robot = stdr_lite.tools.move_robot:main',
+            'waypoint_controller = waypoint_controller.waypoint_controller:main',
+            'course_monitor = waypoint_controller.course_monitor:main',
+            'plot_run = waypoint_controller.plot_run:main',
+            'stdr_viewer = stdr_lite.viewer.stdr_viewer:main',
         ],
     },
 )

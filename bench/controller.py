@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """
 Benchmark the waypoint control law in a plain kinematic loop (a benchmark, not a test).
 
@@ -15,8 +14,7 @@ import math
 import sys
 
 import numpy as np
-
-from stdr_lite.kinematics import arc_step
+from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.control_law import (ControllerConfig, CourseFollower, FollowerStep,
                                              in_goal_set, wrap)
 from waypoint_controller.pid import PID

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """
 Estimate how fast the controller benchmark's courses can be driven (a benchmark, not a test).
 
@@ -14,10 +13,9 @@ import argparse
 import math
 import sys
 
-from controller import lower_bound, random_course
+from bench.controller import lower_bound, random_course
+from bench.reference_paths import candidate_paths
 import numpy as np
-from reference_paths import candidate_paths
-
 from waypoint_controller.control_law import ControllerConfig
 
 

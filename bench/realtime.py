@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """
 Measure how fast stdr_lite and waypoint_controller run in lockstep (a benchmark, not a test).
 
@@ -25,15 +24,14 @@ from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from simple_robot_control.occupancy_map import load_map
+from simple_robot_control.share import BUNDLED_COURSE, BUNDLED_MAP, BUNDLED_ROBOT, shared_file
 from std_msgs.msg import String
-
-from stdr_lite.occupancy_map import load_map
-from stdr_lite.robot_description import load_robot_or_default
-from stdr_lite.sensors import RangeFinder, read_sensors
-from stdr_lite.share import shared_file
-from stdr_lite.simulator_node import StdrLite
-from stdr_lite.world import PlacementError, World
-from waypoint_controller.controller_node import WaypointController
+from stdr_lite.core.robot_description import load_robot, RobotEntry
+from stdr_lite.core.simulation import Simulation, SimulationSettings
+from stdr_lite.core.world import PlacementError
+from stdr_lite.node.stdr_lite import StdrLite
+from waypoint_controller.waypoint_controller import WaypointController
 
 RUN_TIMEOUT = 300.0
 
@@ -96,27 +94,30 @@ def drive_course(course, separate_process):
         rclpy.try_shutdown(context=context)
 
 
-def place_robots(world, robot_count, rng):
-    """Add robot_count robots of radius 0.2 m at random free places."""
-    width, height = world.map.width * world.map.resolution, world.map.height * world.map.resolution
-    while world.robot_count < robot_count:
-        pose = (rng.uniform(0.0, width), rng.uniform(0.0, height), rng.uniform(-np.pi, np.pi))
+def crowded_simulation(robot_count, seed):
+    """Return the lab room with robot_count lab robots at random free poses."""
+    simulation = Simulation(load_map(shared_file(*BUNDLED_MAP)), SimulationSettings(rate_hz=50.0))
+    description = load_robot(shared_file(*BUNDLED_ROBOT))
+    rng = np.random.default_rng(seed)
+    while len(simulation.names) < robot_count:
+        x, y = rng.uniform((0.0, 0.0), simulation.occupancy_map.extent)
+        entry = RobotEntry(f'robot{len(simulation.names)}', description,
+                           (x, y, rng.uniform(-np.pi, np.pi)))
         try:
-            world.add_robot(pose, 0.2)
+            simulation.add_robot(entry)
         except PlacementError:
             continue
+    return simulation, rng
 
 
 def robot_steps_per_second(robot_count, steps, seed=1):
     """Step robot_count robots with random commands in the lab room; robot-steps per second."""
-    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
-    rng = np.random.default_rng(seed)
-    place_robots(world, robot_count, rng)
-    linear = rng.uniform(-0.5, 0.5, robot_count)
-    angular = rng.uniform(-1.0, 1.0, robot_count)
+    simulation, rng = crowded_simulation(robot_count, seed)
+    for name in simulation.names:
+        simulation.command(name, rng.uniform(-0.5, 0.5), rng.uniform(-1.0, 1.0))
     started = time.perf_counter()
     for _ in range(steps):
-        world.step(linear, angular, 0.02)
+        simulation.step()
     return robot_count * steps / (time.perf_counter() - started)
 
 
@@ -133,19 +134,15 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
 
     Returns one figure per batch of repeated reads, so that the spread shows.
     """
-    world = World(load_map(shared_file('maps', 'lab_room.yaml')), 0.2, 'euler')
-    description = load_robot_or_default('')
-    rng = np.random.default_rng(seed)
-    place_robots(world, robot_count, rng)
-    finder = RangeFinder(world.map)
-    jobs = [(index, spec) for index in range(robot_count)
-            for spec in description.lasers + description.sonars]
+    simulation, _ = crowded_simulation(robot_count, seed)
+    jobs = [(name, sensor.spec) for name in simulation.names
+            for sensor in simulation.robot(name).sensors]
     frequency = min(spec.frequency for _, spec in jobs)
     loads = []
     for _ in range(batches):
         started = time.perf_counter()
         for _ in range(repeats):
-            read_sensors(finder, world.poses, world.radii, jobs, rng)
+            simulation.read_sensors(jobs)
         loads.append((time.perf_counter() - started) / repeats * frequency)
     return loads
 
@@ -153,7 +150,7 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
 def main(argv=None):
     keep_dds_on_loopback()
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
-    parser.add_argument('--course', default=shared_file('waypoints', 'lab_tour.txt'))
+    parser.add_argument('--course', default=shared_file(*BUNDLED_COURSE))
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 100, 1000])
     parser.add_argument('--repeat', type=int, default=5,
                         help='runs per configuration; the run with the median RTF is shown')

@@ -2,10 +2,14 @@
 Test fixtures; importing this module keeps every test's DDS traffic on loopback.
 
 The environment is set before any Context exists, so in-process nodes and every subprocess
-the tests start use loopback discovery in a domain of this test session's own.
+the tests start use loopback discovery in a domain of this test session's own. Tests come in
+tiers by folder, each also a marker: unit (pure logic, no ROS graph), node (nodes in this
+process), system (installed executables and the install tree); `pytest test/unit` or
+`pytest -m unit` runs one tier.
 """
 
 import os
+from pathlib import Path
 import random
 
 import pytest
@@ -16,6 +20,16 @@ from ros_helpers import events_executor
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_STATIC_PEERS'] = ''
 os.environ['ROS_DOMAIN_ID'] = str(random.SystemRandom().randint(1, 100))
+
+TIERS = ('unit', 'node', 'system')
+
+
+def pytest_collection_modifyitems(items):
+    """Mark each test with the tier of the folder it lives in."""
+    for item in items:
+        tier = Path(item.fspath).parent.name
+        if tier in TIERS:
+            item.add_marker(getattr(pytest.mark, tier))
 
 
 @pytest.fixture

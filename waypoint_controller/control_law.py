@@ -30,7 +30,7 @@ def _arc(pose, linear, angular, dt):
     """
     Exact constant-velocity arc step for one robot: the model the law predicts with.
 
-    Same formula as stdr_lite.kinematics.arc_step, in scalar math because a prediction takes
+    Same formula as stdr_lite.core.kinematics.arc_step, in scalar math because a prediction takes
     thousands of single-robot steps, where numpy's per-call cost would dominate.
     """
     x, y, theta = pose
@@ -96,6 +96,15 @@ class PoseController:
         self._distance_pid = PID(config.distance_kp, config.distance_ki, config.distance_kd,
                                  config.max_linear_speed)
         self.waypoint = None
+
+    def reconfigure(self, config: ControllerConfig) -> None:
+        """Take new limits, tolerances and gains; the manoeuvre under way carries on."""
+        config.validate()
+        self.config = config
+        self._heading_pid.retune(config.heading_kp, config.heading_ki, config.heading_kd,
+                                 config.max_angular_speed)
+        self._distance_pid.retune(config.distance_kp, config.distance_ki, config.distance_kd,
+                                  config.max_linear_speed)
         self.backward = False
         self.rotating = False
         self.pivoting = None
@@ -212,6 +221,11 @@ class CourseFollower:
         self._controller = PoseController(config)
         self.next_index = 0
         self._started = False
+
+    def reconfigure(self, config: ControllerConfig) -> None:
+        """Use new limits, tolerances and gains from the next check or command on."""
+        self._controller.reconfigure(config)
+        self.config = config
 
     @property
     def finished(self):

@@ -9,19 +9,24 @@ class PID:
     saturated in the direction of the error, so it never has to unwind after a long turn.
     """
 
-    def __init__(self, kp, ki=0.0, kd=0.0, output_limit=float('inf')):
+    def __init__(self, kp: float, ki: float = 0.0, kd: float = 0.0,
+                 output_limit: float = float('inf')):
+        self.retune(kp, ki, kd, output_limit)
+        self._integral = 0.0
+        self._previous_error = None
+
+    def retune(self, kp: float, ki: float, kd: float, output_limit: float) -> None:
+        """Take new gains and limit, keeping the integral and the last error."""
         if min(kp, ki, kd) < 0.0 or output_limit <= 0.0:
             raise ValueError('PID gains must be >= 0 and the output limit positive')
         self.kp, self.ki, self.kd = kp, ki, kd
         self.output_limit = output_limit
+
+    def reset(self) -> None:
         self._integral = 0.0
         self._previous_error = None
 
-    def reset(self):
-        self._integral = 0.0
-        self._previous_error = None
-
-    def update(self, error, dt, kp=None):
+    def update(self, error: float, dt: float, kp: float | None = None) -> float:
         """Return the saturated output for this error; kp overrides the proportional gain."""
         kp = self.kp if kp is None else kp
         derivative = 0.0

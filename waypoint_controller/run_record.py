@@ -13,6 +13,8 @@ import json
 import math
 import os
 
+from simple_robot_control.validation import is_finite_number
+from waypoint_controller.status import FINISHED, parse_status, STARTED, WAYPOINT
 from waypoint_controller.waypoints import Waypoint
 
 
@@ -51,14 +53,12 @@ class StatusClock:
 
     def date(self, text):
         """Return the time at which the status message text was true."""
-        words = text.split()
-        if words and words[0] == 'FINISHED':
+        status = parse_status(text)
+        if status is not None and status.kind == FINISHED:
             return self._last_date
         self._last_date = self.now
-        if words and words[0] in ('STARTED', 'WAYPOINT'):
-            pose = reported_pose(text)
-            if pose is not None:
-                self._last_date = self._first_stamp_showing(*pose)
+        if status is not None and status.kind in (STARTED, WAYPOINT):
+            self._last_date = self._first_stamp_showing(*status.pose)
         return self._last_date
 
     def _first_stamp_showing(self, x, y, theta):
@@ -70,18 +70,6 @@ class StatusClock:
             elif first is not None:
                 break
         return self.now if first is None else first
-
-
-def reported_pose(text):
-    """Return (x, y, theta in radians) from a status message's last three words, or None."""
-    words = text.split()
-    if len(words) < 4:
-        return None
-    try:
-        x, y, degrees = (float(word) for word in words[-3:])
-    except ValueError:
-        return None
-    return x, y, math.radians(degrees)
 
 
 class RunRecordError(ValueError):
@@ -103,9 +91,14 @@ class RunRecord:
     @property
     def result(self):
         """Return FINISHED or ABORTED from the last status, or None while the run is unfinished."""
-        if self.statuses and self.statuses[-1][1].split()[0] in ('FINISHED', 'ABORTED'):
-            return self.statuses[-1][1].split()[0]
-        return None
+        last = parse_status(self.statuses[-1][1]) if self.statuses else None
+        return last.kind if last is not None and last.ends_run else None
+
+    def reported_poses(self, kind):
+        """Return the poses (theta in radians) reported by the status messages of one kind."""
+        statuses = (parse_status(text) for _, text in self.statuses)
+        return [status.pose for status in statuses
+                if status is not None and status.kind == kind and status.pose is not None]
 
     @property
     def duration(self):
@@ -186,9 +179,8 @@ def _entry(path, number, line):
 
 def _finite(path, number, values, count):
     """Check that values is a list of count finite numbers and return them as floats."""
-    if (not isinstance(values, list) or len(values) != count
-            or not all(isinstance(value, (int, float)) and not isinstance(value, bool)
-                       and math.isfinite(value) for value in values)):
+    if not isinstance(values, list) or len(values) != count or not all(
+            map(is_finite_number, values)):
         raise RunRecordError(f'{path}:{number}: expected {count} finite number'
                              f'{"s" if count > 1 else ""}, got {values!r}')
     return [float(value) for value in values]

@@ -1,6 +1,16 @@
-"""The text of robot_status messages, as the lab specifies them (theta in degrees)."""
+"""
+The text of robot_status messages, as the lab specifies them: written and read here alone.
 
+STARTED <x> <y> <theta>, WAYPOINT <n> <x> <y> <theta>, FINISHED, ABORTED <n> <x> <y> <theta>;
+metres, and theta in degrees (the lab's unit). Poses given to and taken from this module are
+(x, y, theta in radians).
+"""
+
+from dataclasses import dataclass
 import math
+
+STARTED, WAYPOINT, FINISHED, ABORTED = 'STARTED', 'WAYPOINT', 'FINISHED', 'ABORTED'
+ENDINGS = (FINISHED, ABORTED)
 
 
 def _pose_text(pose):
@@ -8,17 +18,50 @@ def _pose_text(pose):
     return f'{x:.3f} {y:.3f} {math.degrees(theta):.2f}'
 
 
-def started(pose):
-    return f'STARTED {_pose_text(pose)}'
+def started(pose: tuple) -> str:
+    return f'{STARTED} {_pose_text(pose)}'
 
 
-def waypoint_reached(number, pose):
-    return f'WAYPOINT {number} {_pose_text(pose)}'
+def waypoint_reached(number: int, pose: tuple) -> str:
+    return f'{WAYPOINT} {number} {_pose_text(pose)}'
 
 
-def finished():
-    return 'FINISHED'
+def finished() -> str:
+    return FINISHED
 
 
-def aborted(number, pose):
-    return f'ABORTED {number} {_pose_text(pose)}'
+def aborted(number: int, pose: tuple) -> str:
+    return f'{ABORTED} {number} {_pose_text(pose)}'
+
+
+@dataclass(frozen=True)
+class Status:
+    """A robot_status message read back: its kind, waypoint number and pose where it has them."""
+
+    kind: str
+    number: int | None = None
+    pose: tuple | None = None
+
+    @property
+    def ends_run(self) -> bool:
+        return self.kind in ENDINGS
+
+
+def parse_status(text: str) -> Status | None:
+    """Read a robot_status text; None if it is not one this module writes."""
+    words = text.split()
+    if not words or words[0] not in (STARTED, WAYPOINT, FINISHED, ABORTED):
+        return None
+    kind, rest = words[0], words[1:]
+    if kind == FINISHED:
+        return Status(kind) if not rest else None
+    number = None
+    if kind in (WAYPOINT, ABORTED):
+        if not rest or not rest[0].isdigit():
+            return None
+        number, rest = int(rest[0]), rest[1:]
+    try:
+        x, y, degrees = (float(word) for word in rest)
+    except ValueError:
+        return None
+    return Status(kind, number, (x, y, math.radians(degrees)))

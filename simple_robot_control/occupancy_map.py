@@ -1,0 +1,141 @@
+"""Maps in the standard map_server format: a YAML file naming an image and its geometry."""
+
+from dataclasses import dataclass
+import os
+
+import numpy as np
+from PIL import Image
+from simple_robot_control.validation import is_finite_number
+from simple_robot_control.yaml_file import read_yaml
+
+OCCUPIED = 100
+FREE = 0
+UNKNOWN = -1
+
+_DEFAULTS = {'mode': 'trinary', 'negate': 0, 'occupied_thresh': 0.65, 'free_thresh': 0.25}
+_REQUIRED = ('image', 'resolution', 'origin')
+_MODES = ('trinary', 'scale', 'raw')
+
+
+class MapError(ValueError):
+    """A map that cannot be loaded; the message is one line naming the file and the problem."""
+
+
+@dataclass(frozen=True)
+class OccupancyMap:
+    """An occupancy grid: row 0 is the bottom of the image, as in nav_msgs/OccupancyGrid."""
+
+    cells: np.ndarray
+    resolution: float
+    origin: tuple
+    source: str = ''
+
+    @property
+    def occupied(self):
+        """Cells a robot may not touch."""
+        return self.cells == OCCUPIED
+
+    @property
+    def height(self):
+        return self.cells.shape[0]
+
+    @property
+    def width(self):
+        return self.cells.shape[1]
+
+    @property
+    def extent(self):
+        """Return the map's (width, height) in metres."""
+        return self.width * self.resolution, self.height * self.resolution
+
+
+def load_map(yaml_path):
+    """Load a map_server YAML file and its image; raise MapError on any problem."""
+    yaml_path = os.fspath(yaml_path)
+    description = read_yaml(yaml_path, 'map file', MapError)
+    if not isinstance(description, dict):
+        raise MapError(f'{yaml_path}: expected a mapping of map fields, got {description!r}')
+    fields = _validated_fields(yaml_path, description)
+    image_path = fields['image']
+    if not os.path.isabs(image_path):
+        image_path = os.path.join(os.path.dirname(yaml_path), image_path)
+    pixels, alpha = _read_image(image_path)
+    cells = image_to_cells(pixels, alpha, fields)
+    return OccupancyMap(cells=np.flipud(cells), resolution=fields['resolution'],
+                        origin=fields['origin'], source=yaml_path)
+
+
+def image_to_cells(pixels, alpha, fields):
+    """Convert grey levels (0..255, image row order) to occupancy values as map_server does."""
+    shade = pixels / 255.0
+    occupancy = shade if fields['negate'] else 1.0 - shade
+    occupied_thresh = fields['occupied_thresh']
+    free_thresh = fields['free_thresh']
+    if fields['mode'] == 'raw':
+        cells = np.where(pixels <= OCCUPIED, pixels, UNKNOWN)
+    else:
+        cells = np.full(pixels.shape, UNKNOWN)
+        if fields['mode'] == 'scale':
+            fraction = (occupancy - free_thresh) / (occupied_thresh - free_thresh)
+            cells = np.rint(99.0 * fraction).astype(int)
+        cells = np.where(occupancy > occupied_thresh, OCCUPIED, cells)
+        cells = np.where(occupancy < free_thresh, FREE, cells)
+        if alpha is not None:
+            cells = np.where(alpha < 255, UNKNOWN, cells)
+    return cells.astype(np.int8)
+
+
+def _validated_fields(yaml_path, description):
+    unknown = sorted(set(description) - set(_REQUIRED) - set(_DEFAULTS))
+    if unknown:
+        allowed = ', '.join(_REQUIRED + tuple(_DEFAULTS))
+        raise MapError(f'{yaml_path}: unknown field {unknown[0]!r} (allowed: {allowed})')
+    missing = [key for key in _REQUIRED if key not in description]
+    if missing:
+        raise MapError(f'{yaml_path}: missing required field {missing[0]!r}')
+    fields = dict(_DEFAULTS, **description)
+    if not isinstance(fields['image'], str) or not fields['image']:
+        raise MapError(f'{yaml_path}: image must be a file name, got {fields["image"]!r}')
+    fields['resolution'] = _number(yaml_path, 'resolution', fields['resolution'])
+    if fields['resolution'] <= 0.0:
+        raise MapError(f'{yaml_path}: resolution must be positive, got {fields["resolution"]}')
+    origin = fields['origin']
+    if not isinstance(origin, list) or len(origin) != 3:
+        raise MapError(f'{yaml_path}: origin must be [x, y, yaw], got {origin!r}')
+    fields['origin'] = tuple(_number(yaml_path, 'origin', value) for value in origin)
+    if fields['negate'] not in (0, 1) or isinstance(fields['negate'], float):
+        raise MapError(f'{yaml_path}: negate must be 0 or 1, got {fields["negate"]!r}')
+    for key in ('occupied_thresh', 'free_thresh'):
+        fields[key] = _number(yaml_path, key, fields[key])
+        if not 0.0 <= fields[key] <= 1.0:
+            raise MapError(f'{yaml_path}: {key} must lie in [0, 1], got {fields[key]}')
+    if fields['free_thresh'] >= fields['occupied_thresh']:
+        raise MapError(f'{yaml_path}: free_thresh {fields["free_thresh"]} must be below '
+                       f'occupied_thresh {fields["occupied_thresh"]}')
+    if fields['mode'] not in _MODES:
+        raise MapError(f'{yaml_path}: mode must be one of {", ".join(_MODES)}, '
+                       f'got {fields["mode"]!r}')
+    return fields
+
+
+def _number(yaml_path, key, value):
+    if not is_finite_number(value):
+        raise MapError(f'{yaml_path}: {key} must be a finite number, got {value!r}')
+    return float(value)
+
+
+def _read_image(image_path):
+    """Return grey levels averaged over the colour channels, and the alpha channel if any."""
+    try:
+        with Image.open(image_path) as image:
+            image.load()
+            has_alpha = image.mode in ('RGBA', 'LA', 'PA') or 'transparency' in image.info
+            rgba = np.asarray(image.convert('RGBA'), dtype=float)
+    except FileNotFoundError:
+        raise MapError(f'{image_path}: map image not found') from None
+    except (OSError, SyntaxError, ValueError) as error:
+        raise MapError(f'{image_path}: cannot read map image: {error}') from None
+    if rgba.shape[0] == 0 or rgba.shape[1] == 0:
+        raise MapError(f'{image_path}: map image is empty')
+    pixels = rgba[..., :3].mean(axis=2)
+    return pixels, (rgba[..., 3] if has_alpha else None)

@@ -1,0 +1,32 @@
+"""
+Planar poses (x, y, theta) to and from ROS messages: the one place each conversion is written.
+
+Duck-typed on the messages' fields, so no ROS import is needed here: a geometry_msgs Pose (or
+anything with position and orientation) in, a tuple out, and back.
+"""
+
+import math
+
+
+def yaw_from_quaternion(orientation) -> float:
+    """Heading (rad) of a quaternion with x, y, z, w attributes, about the z axis."""
+    return math.atan2(2.0 * (orientation.w * orientation.z + orientation.x * orientation.y),
+                      1.0 - 2.0 * (orientation.y ** 2 + orientation.z ** 2))
+
+
+def set_yaw(orientation, yaw: float) -> None:
+    """Write a rotation of yaw radians about z into a quaternion message, in place."""
+    orientation.x = orientation.y = 0.0
+    orientation.z = math.sin(0.5 * yaw)
+    orientation.w = math.cos(0.5 * yaw)
+
+
+def pose_from_message(pose) -> tuple:
+    """Return (x, y, theta) of a geometry_msgs Pose."""
+    return pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation)
+
+
+def set_pose(pose, x: float, y: float, theta: float) -> None:
+    """Write (x, y, theta) into a geometry_msgs Pose, in place (z stays as it is)."""
+    pose.position.x, pose.position.y = x, y
+    set_yaw(pose.orientation, theta)

@@ -1,0 +1,28 @@
+"""Locate the files this package installs (maps, robots, waypoint courses, launch files)."""
+
+import os
+import sys
+
+PACKAGE_NAME = 'simple_robot_control'
+BUNDLED_MAP = ('maps', 'lab_room.yaml')
+BUNDLED_ROBOT = ('robots', 'lab_robot.yaml')
+BUNDLED_COURSE = ('waypoints', 'lab_tour.txt')
+
+
+def share_directory() -> str:
+    """
+    Return the package's share directory.
+
+    A colcon build or a ROS installation registers it in the ament index; a pip install into
+    a virtual environment puts it under the environment's prefix.
+    """
+    try:
+        from ament_index_python.packages import get_package_share_directory
+        return get_package_share_directory(PACKAGE_NAME)
+    except (ImportError, LookupError, OSError):
+        return os.path.join(sys.prefix, 'share', PACKAGE_NAME)
+
+
+def shared_file(*parts: str) -> str:
+    """Path of a file under the share directory."""
+    return os.path.join(share_directory(), *parts)

@@ -1,0 +1,94 @@
+"""
+Checks of numbers and names from users, each giving one line that says what is wrong.
+
+Plain Python, no ROS: the nodes, the file readers and the simulation core all use these, so a
+value is judged by the same rule wherever it enters.
+"""
+
+from dataclasses import dataclass
+import math
+import re
+
+# ROS 2 names (REP-144 / rcl's rules): a token starts with a letter and holds ASCII letters,
+# digits and underscores; no double underscore, no trailing underscore.
+_TOKEN = re.compile(r'^[A-Za-z][A-Za-z0-9_]*$')
+
+
+def compact(value: object) -> str:
+    """Write a number briefly (12 significant digits at most), anything else as repr."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return repr(value)
+    return f'{value:.12g}'
+
+
+def is_finite_number(value: object) -> bool:
+    """Whether value is an int or float (not a bool) that is neither NaN nor infinite."""
+    return (isinstance(value, (int, float)) and not isinstance(value, bool)
+            and math.isfinite(value))
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """
+    An interval a number must lie in; either end may be open or absent.
+
+    Every bounded quantity of the package has finite limits that make sense for it, so a
+    value such as 1e308 m/s is refused where it enters rather than failing deep inside.
+    """
+
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+
+    def text(self) -> str:
+        """Describe the interval in words a user reads: 'positive', '>= 0', 'in (0, 10]'."""
+        if self.high is None:
+            if self.low is None:
+                return 'a finite number'
+            if self.low == 0.0:
+                return 'positive' if self.low_open else '>= 0'
+            return f'{">" if self.low_open else ">="} {compact(self.low)}'
+        if self.low is None:
+            return f'{"<" if self.high_open else "<="} {compact(self.high)}'
+        return (f'in {"(" if self.low_open else "["}{compact(self.low)}, '
+                f'{compact(self.high)}{")" if self.high_open else "]"}')
+
+    def contains(self, value: float) -> bool:
+        """Whether value is finite and within the interval."""
+        if not is_finite_number(value):
+            return False
+        if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
+            return False
+        return self.high is None or not (value > self.high
+                                         or (self.high_open and value == self.high))
+
+    def problem(self, name: str, value: object) -> str | None:
+        """Return 'NAME must be ..., got VALUE', or None when value lies within."""
+        if self.contains(value):
+            return None
+        return f'{name} must be {self.text()}, got {compact(value)}'
+
+
+POSITIVE = Bounds(0.0, None, low_open=True)
+NON_NEGATIVE = Bounds(0.0)
+
+
+ROS_NAME_RULE = ('a ROS name (ASCII letters, digits and underscores, starting with a letter, '
+                 "no '__', not ending in '_')")
+
+
+def is_ros_name(name: object) -> bool:
+    """
+    Whether name can be a robot or frame name in ROS topics.
+
+    Names become topic and frame tokens (/<name>/odom, <name>/base_link), so they must follow
+    the rules of a ROS name token.
+    """
+    return (isinstance(name, str) and bool(_TOKEN.match(name)) and '__' not in name
+            and not name.endswith('_'))
+
+
+def ros_name_problem(name: object, what: str) -> str | None:
+    """Return 'WHAT must be a ROS name ..., got NAME', or None if name is one."""
+    return None if is_ros_name(name) else f'{what} must be {ROS_NAME_RULE}, got {name!r}'

@@ -1,0 +1,1 @@
+"""The simulation itself, with no ROS in it: kinematics, collisions, sensors, robots."""

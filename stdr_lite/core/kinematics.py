@@ -1,0 +1,47 @@
+"""
+Unicycle kinematics, vectorized over any number of robots.
+
+Every function broadcasts: pass scalars for one robot, arrays for many, or an extra trailing
+axis of durations to sample a step at several instants.
+"""
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+
+def wrap_angle(angle: ArrayLike) -> np.ndarray | float:
+    """Wrap angles to (-pi, pi]."""
+    wrapped = np.remainder(np.asarray(angle, dtype=float) + np.pi, 2.0 * np.pi) - np.pi
+    return np.where(wrapped == -np.pi, np.pi, wrapped)[()]
+
+
+def euler_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
+               dt: ArrayLike) -> tuple:
+    """
+    Advance by dt with the lab's forward-Euler update (equation 2).
+
+    The heading used for the translation is the one at the start of the step, exactly as the
+    lab text writes it.
+    """
+    return (x + v * dt * np.cos(theta),
+            y + v * dt * np.sin(theta),
+            wrap_angle(theta + omega * dt))
+
+
+def arc_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
+             dt: ArrayLike) -> tuple:
+    """
+    Advance by dt along the exact constant-velocity arc.
+
+    The chord has length v*dt*sinc(omega*dt/2) and points along the mean heading, which stays
+    finite as omega goes to zero, so straight lines need no special case.
+    """
+    half_turn = 0.5 * omega * dt
+    chord = v * dt * np.sinc(half_turn / np.pi)
+    mid_heading = theta + half_turn
+    return (x + chord * np.cos(mid_heading),
+            y + chord * np.sin(mid_heading),
+            wrap_angle(theta + omega * dt))
+
+
+INTEGRATORS = {'euler': euler_step, 'arc': arc_step}

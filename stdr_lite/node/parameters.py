@@ -1,0 +1,102 @@
+"""The stdr_lite node's parameters, and the simulation they describe."""
+
+from dataclasses import dataclass, replace
+import math
+
+from simple_robot_control.node_runtime import ConfigError, ParameterSpec, require
+from simple_robot_control.occupancy_map import load_map, MapError
+from simple_robot_control.share import BUNDLED_MAP, BUNDLED_ROBOT, shared_file
+from simple_robot_control.validation import Bounds, NON_NEGATIVE
+from stdr_lite.core.kinematics import INTEGRATORS
+from stdr_lite.core.robot_description import (load_robot, load_robot_list, RobotEntry,
+                                              RobotFileError)
+from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
+from stdr_lite.core.world import PlacementError
+
+PARAMETERS = (
+    ParameterSpec('map_yaml', '', 'map_server YAML file of the world; empty for the bundled '
+                  'lab_room (20 m x 15 m)'),
+    ParameterSpec('rate_hz', 50.0, 'simulation steps per simulated second; dt = 1/rate_hz',
+                  Bounds(1.0, 1000.0)),
+    ParameterSpec('integrator', 'euler', "'euler' (the lab's equation 2) or 'arc' (exact "
+                  'constant-velocity arc)', choices=tuple(INTEGRATORS)),
+    ParameterSpec('real_time_factor', 1.0, 'simulated seconds per wall-clock second; 0 steps '
+                  'as fast as the CPU allows', Bounds(0.0, 10000.0)),
+    ParameterSpec('lockstep', False, 'advance only once every robot has answered its latest '
+                  'odometry with a cmd_vel, so sim time never runs ahead of the controller; '
+                  'real_time_factor is then an upper bound'),
+    ParameterSpec('robot_description', '', 'STDR robot YAML (footprint, sensors) of the '
+                  'robots; empty for the bundled lab robot'),
+    ParameterSpec('robots_file', '', 'YAML robot list {robots: [{name, description, pose}]}; '
+                  'empty: one robot, robot_name at initial_pose'),
+    ParameterSpec('robot_name', 'robot0', 'name of the one robot when there is no robots_file: '
+                  'topics are /<name>/cmd_vel, /<name>/odom, ...', ros_name=True),
+    ParameterSpec('robot_radius', 0.0, 'footprint radius of that robot [m]; 0 takes the '
+                  'one in robot_description', Bounds(0.0, 10.0)),
+    ParameterSpec('initial_pose', [1.0, 2.0, 0.0], 'start pose of that robot [x m, y m, theta '
+                  'rad] in the map frame', constraints='off walls, on the map'),
+    ParameterSpec('max_linear_speed', 2.0, 'commands beyond this linear speed are clamped '
+                  '[m/s]', Bounds(0.0, 100.0, low_open=True)),
+    ParameterSpec('max_angular_speed', math.pi, 'commands beyond this angular speed are '
+                  'clamped [rad/s]', Bounds(0.0, 100.0, low_open=True)),
+    ParameterSpec('cmd_vel_timeout', 0.0, 'stop a robot whose last command is older than '
+                  'this [s of sim time]; 0 holds the last command forever (STDR)',
+                  Bounds(0.0, 3600.0)),
+    ParameterSpec('sensor_seed', 0, 'seed of the sensor noise, so that runs repeat',
+                  NON_NEGATIVE),
+    ParameterSpec('map_frame_id', 'map', 'frame of /map', ros_name=True),
+    ParameterSpec('odom_frame_id', 'odom', 'frame of the odometry pose (REP-105); it '
+                  'coincides with the map frame', ros_name=True),
+    ParameterSpec('base_frame_id', 'base_link', 'child frame of the odometry (REP-105), '
+                  'prefixed with the robot name', ros_name=True),
+)
+
+
+@dataclass(frozen=True)
+class Frames:
+    """Frame names: the map's, the odometry's, and each robot's base (under its name)."""
+
+    map_frame: str
+    odom_frame: str
+    base_frame: str
+
+
+def frames(params):
+    """Return the frame names."""
+    return Frames(params['map_frame_id'], params['odom_frame_id'], params['base_frame_id'])
+
+
+def build_simulation(params):
+    """
+    Return the simulation the parameters describe, and the robots' default description.
+
+    Anything that cannot be used raises ConfigError with one line naming it.
+    """
+    map_yaml = params['map_yaml'] or shared_file(*BUNDLED_MAP)
+    try:
+        occupancy_map = load_map(map_yaml)
+        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT))
+        entries = _robot_entries(params, description)
+    except (MapError, RobotFileError) as error:
+        raise ConfigError(str(error)) from None
+    settings = SimulationSettings(**{name: params[name] for name in (
+        'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
+        'sensor_seed')})
+    try:
+        return Simulation(occupancy_map, settings, entries), description
+    except (PlacementError, RequestError) as error:
+        raise ConfigError(str(error)) from None
+
+
+def _robot_entries(params, description):
+    single = {name: params[name] for name in ('robot_name', 'robot_radius', 'initial_pose')}
+    if not params['robots_file']:
+        require(len(single['initial_pose']) == 3,
+                f'initial_pose must be [x, y, theta], got {single["initial_pose"]}')
+        if single['robot_radius'] > 0.0:
+            description = replace(description, radius=single['robot_radius'])
+        return [RobotEntry(single['robot_name'], description, tuple(single['initial_pose']))]
+    changed = [spec.name for spec in PARAMETERS
+               if spec.name in single and single[spec.name] != spec.default]
+    require(not changed, f'robots_file lists the robots; drop {", ".join(changed)}')
+    return load_robot_list(params['robots_file'], description)

@@ -1,0 +1,1 @@
+"""Interactive tools for driving the simulator by hand."""

@@ -1,0 +1,171 @@
+"""move_robot: the lab's interactive tool. Ask for a velocity and a duration, drive, repeat."""
+
+import sys
+import threading
+import time
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.task import Future
+from rclpy.time import Time
+from simple_robot_control.node_runtime import (build_parser, declare_parameters, EXIT_FAILED,
+                                               EXIT_OK, ParameterSpec, run)
+from simple_robot_control.pose import pose_from_message
+from simple_robot_control.validation import Bounds
+from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
+
+PARAMETERS = (
+    ParameterSpec('robot_name', 'robot0', 'robot to drive: topics <name>/cmd_vel and '
+                  '<name>/odom', ros_name=True),
+    ParameterSpec('odom_timeout', 10.0, 'give up when no odometry arrives for this long '
+                  '[s of wall time]', Bounds(0.0, 3600.0, low_open=True)),
+)
+
+DESCRIPTION = ('move_robot: drive a simulated robot by hand, as in the lab. Asks for a linear '
+               'velocity (m/s), a rotational velocity (degrees/s) and a duration (s of sim '
+               'time), drives, stops, prints the new pose, and repeats until end of input.')
+
+
+class SimulatorSilent(Exception):
+    """No odometry arrived within odom_timeout."""
+
+
+class MoveRobot(Node):
+    """Runs the lab dialogue in a worker thread while the executor delivers odometry."""
+
+    def __init__(self, read_line=None, write=None, **kwargs):
+        super().__init__('move_robot', **kwargs)
+        params = declare_parameters(self, PARAMETERS)
+        self._odom_timeout = params['odom_timeout']
+        self._read_line = read_line or _read_stdin_line
+        self._write = write or _write_stdout
+        self.finished = Future()
+        self._exit_code = EXIT_OK
+        self._odometry = None
+        self._odometry_arrived = threading.Condition()
+        self._cmd_publisher = self.create_publisher(Twist, f'{params["robot_name"]}/cmd_vel', 10)
+        self._odom_topic = self.create_subscription(
+            Odometry, f'{params["robot_name"]}/odom', self._on_odometry, 10).topic_name
+        self._session_over = threading.Event()
+        # A steady timer rather than a guard condition: EventsExecutor supports no guard
+        # conditions, and the node must run on any executor.
+        self.create_timer(0.05, self._finish_when_session_over,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
+        threading.Thread(target=self._session, daemon=True).start()
+
+    def _on_odometry(self, message):
+        with self._odometry_arrived:
+            self._odometry = message
+            self._odometry_arrived.notify_all()
+
+    def _finish_when_session_over(self):
+        if self._session_over.is_set() and not self.finished.done():
+            self.finished.set_result(self._exit_code)
+
+    def _next_odometry(self, newer_than=None):
+        """Wait for odometry stamped later than newer_than (or any, if None)."""
+        def fresh():
+            if self._odometry is None:
+                return False
+            return newer_than is None or _stamp_ns(self._odometry) > _stamp_ns(newer_than)
+        with self._odometry_arrived:
+            if not self._odometry_arrived.wait_for(fresh, timeout=self._odom_timeout):
+                raise SimulatorSilent()
+            return self._odometry
+
+    def _session(self):
+        try:
+            odometry = self._next_odometry()
+            self._wait_for_simulator()
+            while True:
+                self._write(_pose_line(odometry) + '\n')
+                linear, angular, duration = ask_motion(self._read_line, self._write)
+                odometry = self._drive(linear, angular, duration)
+        except EndOfInput:
+            self._write('\n')
+        except SimulatorSilent:
+            self.get_logger().error(f'no odometry on {self._odom_topic} for '
+                                    f'{self._odom_timeout:g} s: is stdr_lite running?')
+            self._exit_code = EXIT_FAILED
+        finally:
+            self._session_over.set()
+
+    def _wait_for_simulator(self):
+        """Wait until the simulator subscribes to our commands, so none is lost to discovery."""
+        deadline = time.monotonic() + self._odom_timeout
+        while self._cmd_publisher.get_subscription_count() == 0:
+            if time.monotonic() > deadline:
+                raise SimulatorSilent()
+            time.sleep(0.01)
+
+    def _drive(self, linear, angular, duration):
+        """
+        Hold the command for duration seconds of sim time; return the odometry at rest.
+
+        The command goes out just after a simulation step. The motion is timed from the first
+        step whose odometry shows the command applied, so the simulator applies exactly
+        duration * rate_hz steps even if the command is delivered late.
+        """
+        start = self._next_odometry(newer_than=self._odometry)
+        if duration <= 0.0:
+            return start
+        command = Twist()
+        command.linear.x, command.angular.z = linear, angular
+        self._cmd_publisher.publish(command)
+        duration_ns = round(duration * 1e9)
+        started_ns = _stamp_ns(start)
+        odometry = start
+        if linear != 0.0 or angular != 0.0:
+            while not _is_moving(odometry) and _stamp_ns(odometry) - started_ns < duration_ns:
+                before_first_step = odometry
+                odometry = self._next_odometry(newer_than=odometry)
+            if _is_moving(odometry) and odometry is not start:
+                started_ns = _stamp_ns(before_first_step)
+        while _stamp_ns(odometry) < started_ns + duration_ns:
+            odometry = self._next_odometry(newer_than=odometry)
+        self._cmd_publisher.publish(Twist())
+        odometry = self._next_odometry(newer_than=odometry)
+        while _is_moving(odometry):
+            odometry = self._next_odometry(newer_than=odometry)
+        return odometry
+
+    def shut_down(self):
+        """Leave the robot standing still."""
+        self._cmd_publisher.publish(Twist())
+
+
+def _stamp_ns(odometry):
+    return Time.from_msg(odometry.header.stamp).nanoseconds
+
+
+def _is_moving(odometry):
+    return odometry.twist.twist.linear.x != 0.0 or odometry.twist.twist.angular.z != 0.0
+
+
+def _pose_line(odometry):
+    return format_pose(*pose_from_message(odometry.pose.pose))
+
+
+def _read_stdin_line():
+    line = sys.stdin.readline()
+    if not line:
+        return None
+    if not sys.stdin.isatty():
+        _write_stdout(line if line.endswith('\n') else line + '\n')
+    return line.rstrip('\n')
+
+
+def _write_stdout(text):
+    sys.stdout.write(text)
+    sys.stdout.flush()
+
+
+def main(argv=None):
+    parser = build_parser('move_robot', DESCRIPTION, PARAMETERS)
+    sys.exit(run('move_robot', parser, lambda options: MoveRobot(), argv))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,1 @@
+"""stdr_viewer: a live picture of the world in a window (pygame)."""

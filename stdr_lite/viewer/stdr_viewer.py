@@ -1,0 +1,195 @@
+"""
+stdr_viewer: watch a simulation live, in a window of its own (pygame).
+
+It only subscribes, so it works with any simulator that publishes STDR's topics: /map, and for
+each robot /<robot>/odom, /<robot>/laser_J (LaserScan), /<robot>/sonar_J (Range); plus
+robot_status. Robots are found by looking at the ROS graph once a second.
+"""
+
+from collections import deque
+import functools
+import re
+import sys
+import time
+
+from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from sensor_msgs.msg import LaserScan, Range
+from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
+                                               EXIT_OK, ParameterSpec, run)
+from simple_robot_control.pose import pose_from_message
+from simple_robot_control.share import BUNDLED_ROBOT, shared_file
+from simple_robot_control.validation import Bounds
+from std_msgs.msg import String
+from stdr_lite.core.robot_description import load_robot, RobotFileError
+from stdr_lite.viewer.pygame_quiet import pygame
+from stdr_lite.viewer.scene import LaserReading, Painter, Scene, SonarReading, View
+
+DISCOVERY_PERIOD = 1.0
+ZOOM_STEP = 1.2
+FRAME_TIMES = 30
+TOPIC_KINDS = {'nav_msgs/msg/Odometry': 'odom', 'sensor_msgs/msg/LaserScan': 'laser',
+               'sensor_msgs/msg/Range': 'sonar'}
+ROBOT_TOPIC = re.compile(r'^/([A-Za-z_]\w*)/([A-Za-z_]\w*)$')
+
+PARAMETERS = (
+    ParameterSpec('robot_description', '', "STDR robot YAML giving the robots' radius and "
+                  'sensor mounts; empty for the bundled lab robot'),
+    ParameterSpec('width', 1000, 'window width [pixels]', Bounds(200, 10000)),
+    ParameterSpec('height', 750, 'window height [pixels]', Bounds(150, 10000)),
+    ParameterSpec('fps', 30.0, 'frames drawn per second of wall time', Bounds(1.0, 120.0)),
+    ParameterSpec('screenshot', '', 'write the last frame to this PNG file on exit; empty: '
+                  'none'),
+)
+
+DESCRIPTION = ('stdr_viewer: a live view of a stdr_lite (or STDR) world: the map, each robot '
+               'with its name, heading and trail, laser fans in red, sonar cones in green, and '
+               'the latest robot_status. Mouse wheel or +/- zooms, dragging pans, f fits the '
+               'map, q or closing the window quits.')
+
+
+class StdrViewer(Node):
+    """Fills a Scene from topics and paints it at a steady rate."""
+
+    def __init__(self, surface=None, **kwargs):
+        super().__init__('stdr_viewer', **kwargs)
+        self.finished = Future()
+        params = declare_parameters(self, PARAMETERS)
+        size = (params['width'], params['height'])
+        try:
+            self._description = load_robot(params['robot_description']
+                                           or shared_file(*BUNDLED_ROBOT))
+        except RobotFileError as error:
+            raise ConfigError(str(error)) from None
+        self._screenshot = params['screenshot']
+        pygame.font.init()
+        if surface is None:
+            pygame.display.init()
+            surface = pygame.display.set_mode(size, pygame.RESIZABLE)
+            pygame.display.set_caption('stdr_viewer')
+            self._window = True
+        else:
+            self._window = False
+        self.surface = surface
+        self.scene = Scene()
+        self.view = View(surface.get_size())
+        self._painter = Painter(pygame.font.Font(None, 22))
+        self._subscribed = {}
+        self._frame_times = deque(maxlen=FRAME_TIMES)
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
+        everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                                reliability=ReliabilityPolicy.RELIABLE,
+                                durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(String, 'robot_status', self._on_status, everything)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self.create_timer(DISCOVERY_PERIOD, self.discover_robots, clock=steady)
+        self.create_timer(1.0 / params['fps'], self._on_frame, clock=steady)
+        self.discover_robots()
+
+    def discover_robots(self):
+        """Subscribe to the topics of robots that appeared; forget those that went away."""
+        present = set()
+        for topic, types in self.get_topic_names_and_types():
+            match = ROBOT_TOPIC.match(topic)
+            kind = next((TOPIC_KINDS[name] for name in types if name in TOPIC_KINDS), None)
+            if not match or kind is None or (kind == 'odom' and match.group(2) != 'odom'):
+                continue
+            present.add(topic)
+            if topic not in self._subscribed:
+                self._subscribed[topic] = self._subscribe(kind, topic, *match.groups())
+        for topic in set(self._subscribed) - present:
+            self.destroy_subscription(self._subscribed.pop(topic))
+            robot, name = ROBOT_TOPIC.match(topic).groups()
+            if name == 'odom':
+                self.scene.robots.pop(robot, None)
+
+    def _subscribe(self, kind, topic, robot, name):
+        if kind == 'odom':
+            return self.create_subscription(
+                Odometry, topic, functools.partial(self._on_odometry, robot), 10)
+        if kind == 'laser':
+            return self.create_subscription(
+                LaserScan, topic, functools.partial(self._on_laser, robot, name), 10)
+        return self.create_subscription(
+            Range, topic, functools.partial(self._on_sonar, robot, name), 10)
+
+    def _on_map(self, message):
+        info = message.info
+        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
+        origin = message.info.origin.position
+        self.scene.set_map(cells, message.info.resolution, (origin.x, origin.y))
+        self.view.fit(self.scene.extent())
+
+    def _on_status(self, message):
+        self.scene.status = f'robot_status: {message.data}'
+
+    def _on_odometry(self, robot, message):
+        self.scene.move(robot, pose_from_message(message.pose.pose))
+
+    def _on_laser(self, robot, frame_id, message):
+        self.scene.robot(robot).lasers[frame_id] = LaserReading(
+            message.angle_min, message.angle_increment, message.range_max,
+            np.asarray(message.ranges, dtype=float))
+
+    def _on_sonar(self, robot, frame_id, message):
+        self.scene.robot(robot).sonars[frame_id] = SonarReading(
+            message.field_of_view, message.min_range, message.max_range, message.range)
+
+    def render_frame(self):
+        """Paint the scene onto the surface and return it."""
+        times = self._frame_times
+        times.append(time.monotonic())
+        rate = (len(times) - 1) / (times[-1] - times[0]) if times[-1] > times[0] else 0.0
+        self._painter.draw(self.surface, self.scene, self.view, lambda name: self._description,
+                           f'{len(self.scene.robots)} robots, {rate:.0f} fps, '
+                           f'{self.view.scale:.0f} px/m')
+        return self.surface
+
+    def _on_frame(self):
+        if self.finished.done():
+            return
+        if self._window:
+            for event in pygame.event.get():
+                self._handle(event)
+        self.render_frame()
+        if self._window:
+            pygame.display.flip()
+
+    def _handle(self, event):
+        if event.type == pygame.QUIT or (event.type == pygame.KEYDOWN
+                                         and event.key in (pygame.K_q, pygame.K_ESCAPE)):
+            self.finished.set_result(EXIT_OK)
+        elif event.type == pygame.MOUSEWHEEL:
+            self.view.zoom(ZOOM_STEP ** event.y, pygame.mouse.get_pos())
+        elif event.type == pygame.MOUSEMOTION and event.buttons[0]:
+            self.view.pan(*event.rel)
+        elif event.type == pygame.KEYDOWN and event.unicode in ('+', '=', '-'):
+            factor = 1.0 / ZOOM_STEP if event.unicode == '-' else ZOOM_STEP
+            self.view.zoom(factor, (self.view.size[0] / 2, self.view.size[1] / 2))
+        elif event.type == pygame.KEYDOWN and event.unicode == 'f':
+            self.view.fit(self.scene.extent())
+        elif event.type == pygame.VIDEORESIZE:
+            self.view.size = event.size
+
+    def shut_down(self):
+        """Save the last frame when asked to, and close the window."""
+        if self._screenshot:
+            pygame.image.save(self.render_frame(), self._screenshot)
+            self.get_logger().info(f'wrote {self._screenshot}')
+        if self._window:
+            pygame.display.quit()
+
+
+def main(argv=None):
+    parser = build_parser('stdr_viewer', DESCRIPTION, PARAMETERS)
+    sys.exit(run('stdr_viewer', parser, lambda options: StdrViewer(), argv))
+
+
+if __name__ == '__main__':
+    main()

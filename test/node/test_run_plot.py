@@ -1,0 +1,95 @@
+"""A short run, recorded by course_monitor, drawn by plot_run."""
+
+import math
+
+import numpy as np
+from PIL import Image
+import pytest
+from ros_helpers import overrides
+from simple_robot_control.occupancy_map import load_map
+from simple_robot_control.share import shared_file
+from stdr_lite.node.stdr_lite import StdrLite
+from waypoint_controller.course_monitor import CourseMonitor
+from waypoint_controller.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
+from waypoint_controller.run_record import load_run
+from waypoint_controller.status import parse_status
+from waypoint_controller.waypoint_controller import WaypointController
+
+COURSE = '2.5 2 0\n2.5 3 90\n'
+
+
+@pytest.fixture
+def recorded_run(ros_context, executor, tmp_path):
+    """Drive a two-waypoint course in lockstep with course_monitor recording; return paths."""
+    course, record = tmp_path / 'course.txt', tmp_path / 'run.jsonl'
+    course.write_text(COURSE)
+    output = []
+    simulator = StdrLite(context=ros_context,
+                         parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
+    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
+                            context=ros_context,
+                            parameter_overrides=overrides(record_file=str(record)))
+    controller = WaypointController(str(course), context=ros_context)
+    for node in (simulator, monitor, controller):
+        executor.add_node(node)
+    executor.spin_until_future_complete(monitor.finished, timeout_sec=60.0)
+    assert monitor.finished.result() == 0
+    monitor.shut_down()
+    return course, record, ''.join(output)
+
+
+def test_monitor_prints_each_status_and_a_summary(recorded_run):
+    _, _, output = recorded_run
+    lines = output.splitlines()
+    assert [line.split()[0] for line in lines[:4]] == ['STARTED', 'WAYPOINT', 'WAYPOINT',
+                                                       'FINISHED']
+    assert lines[4].startswith('[' + '#' * 20 + '] 2/2 waypoints | sim ')
+    assert '\r' not in output
+
+
+def test_record_holds_the_run(recorded_run):
+    course, record_path, _ = recorded_run
+    record = load_run(record_path)
+    assert record.course == course.name and len(record.waypoints) == 2
+    assert record.result == 'FINISHED'
+    assert np.all(np.diff(record.times) > 0.0)
+    assert record.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
+    poses_at = dict(zip(record.times, record.poses))
+    for date, text in record.statuses[1:3]:
+        assert poses_at[date] == pytest.approx(parse_status(text).pose, abs=1e-3)
+    assert record.statuses[3][0] == record.statuses[2][0]
+    assert math.dist(record.poses[-1][:2], (2.5, 3.0)) <= 0.1
+
+
+def test_picture_of_the_run_is_a_png_of_the_expected_size(recorded_run, tmp_path):
+    _, record_path, _ = recorded_run
+    picture = tmp_path / 'run.png'
+    render_run(load_run(record_path), load_map(shared_file('maps', 'lab_room.yaml')), 0.2,
+               picture)
+    assert picture.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+    with Image.open(picture) as image:
+        assert image.size == (FIGURE_SIZE[0] * DPI, FIGURE_SIZE[1] * DPI)
+        pixels = np.asarray(image.convert('RGB'), dtype=float)
+    assert pixels.std() > 20.0
+    colourful = np.ptp(pixels, axis=2) > 60
+    assert colourful.sum() > 500
+
+
+def test_plot_run_command_writes_beside_the_record(recorded_run, capsys):
+    _, record_path, _ = recorded_run
+    assert plot_run([str(record_path)]) == 0
+    assert record_path.with_suffix('.png').is_file()
+    assert 'wrote' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize('args, message', [
+    (['missing.jsonl'], 'missing.jsonl: cannot read run record'),
+    (['RECORD', '--map', '/no/map.yaml'], '/no/map.yaml: cannot read map file'),
+    (['RECORD', '--robot-radius', '-1'], '--robot-radius must be a positive number'),
+])
+def test_plot_run_refuses_bad_input_in_one_line(recorded_run, capsys, args, message):
+    _, record_path, _ = recorded_run
+    args = [str(record_path) if arg == 'RECORD' else arg for arg in args]
+    assert plot_run(args) == 2
+    error = capsys.readouterr().err
+    assert message in error and len(error.strip().splitlines()) == 1

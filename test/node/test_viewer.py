@@ -1,0 +1,70 @@
+"""stdr_viewer rendered offscreen: the picture shows the robots where they are."""
+
+import math
+import os
+
+import numpy as np
+from PIL import Image
+import pytest
+from ros_helpers import overrides, spin_until
+from stdr_lite.node.stdr_lite import StdrLite
+from stdr_lite.viewer.pygame_quiet import pygame
+from stdr_lite.viewer.scene import LASER, ROBOT, SONAR, View, WALL
+from stdr_lite.viewer.stdr_viewer import StdrViewer
+
+os.environ['SDL_VIDEODRIVER'] = 'dummy'
+ROBOTS = {'robot0': (3.0, 7.5, 0.0), 'scout': (10.0, 10.0, math.pi / 2)}
+
+
+def colour_count(pixels, colour):
+    return int(np.all(pixels == colour, axis=2).sum())
+
+
+def test_viewer_shows_robots_sensors_and_walls(ros_context, executor, tmp_path):
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots:\n' + ''.join(f'  - {{name: {name}, pose: {list(pose)}}}\n'
+                                            for name, pose in ROBOTS.items()))
+    executor.add_node(StdrLite(context=ros_context,
+                               parameter_overrides=overrides(robots_file=str(robots))))
+    viewer = StdrViewer(surface=pygame.Surface((800, 600)), context=ros_context)
+    executor.add_node(viewer)
+    scene = viewer.scene
+    spin_until(executor, lambda: scene.cells is not None and set(scene.robots) == set(ROBOTS)
+               and all(robot.lasers and len(robot.sonars) == 5
+                       for robot in scene.robots.values()), timeout=20.0,
+               what='the map, both robots and their sensors')
+    frame = viewer.render_frame()
+    picture = tmp_path / 'viewer.png'
+    pygame.image.save(frame, str(picture))
+    with Image.open(picture) as image:
+        assert image.size == (800, 600)
+        pixels = np.asarray(image.convert('RGB')).transpose(1, 0, 2)
+    for x, y, _ in ROBOTS.values():
+        column, row = (round(value) for value in viewer.view.to_screen(x - 0.1, y - 0.1))
+        assert tuple(pixels[column, row]) == ROBOT
+    assert colour_count(pixels, LASER) > 200
+    assert colour_count(pixels, SONAR) > 50
+    assert colour_count(pixels, WALL) > 2000
+
+
+def test_zoom_keeps_the_point_under_the_cursor():
+    view = View((800, 600), centre=(5.0, 5.0), scale=40.0)
+    anchor = view.to_world(600, 100)
+    view.zoom(2.0, (600, 100))
+    assert view.scale == 80.0
+    assert view.to_world(600, 100) == pytest.approx(anchor)
+
+
+def test_dragging_moves_the_world_with_the_mouse():
+    view = View((800, 600), centre=(5.0, 5.0), scale=40.0)
+    before = view.to_screen(7.0, 3.0)
+    view.pan(40, -20)
+    assert view.to_screen(7.0, 3.0) == pytest.approx((before[0] + 40, before[1] - 20))
+
+
+def test_fit_shows_the_whole_extent():
+    view = View((800, 600))
+    view.fit((0.0, 0.0, 20.0, 15.0))
+    for corner in ((0.0, 0.0), (20.0, 15.0)):
+        column, row = view.to_screen(*corner)
+        assert 0 <= column <= 800 and 0 <= row <= 600

@@ -1,0 +1,46 @@
+"""colcon builds the package into the install tree that `ros2 run` and `ros2 launch` use."""
+
+import os
+from pathlib import Path
+import subprocess
+import sys
+
+import pytest
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+PACKAGE = 'simple_robot_control'
+EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller', 'course_monitor', 'plot_run',
+               'stdr_viewer']
+
+
+@pytest.fixture(scope='module')
+def install_tree(tmp_path_factory):
+    workspace = tmp_path_factory.mktemp('colcon_ws')
+    colcon = Path(sys.executable).parent / 'colcon'
+    result = subprocess.run(
+        [str(colcon), 'build', '--base-paths', str(REPOSITORY), '--build-base', 'build',
+         '--install-base', 'install', '--event-handlers', 'console_direct-'],
+        cwd=workspace, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return workspace / 'install'
+
+
+def test_package_is_registered_in_the_ament_index(install_tree):
+    prefix = install_tree / PACKAGE
+    assert (prefix / 'share/ament_index/resource_index/packages' / PACKAGE).is_file()
+    assert (prefix / 'share' / PACKAGE / 'package.xml').is_file()
+    assert (prefix / 'share' / PACKAGE / 'maps/lab_room.yaml').is_file()
+    assert (prefix / 'share' / PACKAGE / 'maps/lab_room.pgm').is_file()
+    assert {path.name for path in (prefix / 'share' / PACKAGE / 'launch').iterdir()} >= {
+        'stdr_lite.launch.py', 'waypoints.launch.py'}
+    assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
+
+
+@pytest.mark.parametrize('name', EXECUTABLES)
+def test_executables_are_where_ros2_run_looks(install_tree, name):
+    path = install_tree / PACKAGE / 'lib' / PACKAGE / name
+    assert os.access(path, os.X_OK)
+    command = f'source "{install_tree}/setup.bash" && "{path}" --help'
+    result = subprocess.run(['bash', '-c', command], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert f'usage: {name}' in result.stdout

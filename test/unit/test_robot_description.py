@@ -1,0 +1,128 @@
+"""STDR robot files and robot lists: what loads, and one-line errors for what does not."""
+
+import math
+
+import pytest
+from simple_robot_control.share import BUNDLED_ROBOT, shared_file
+from stdr_lite.core.robot_description import (load_robot, load_robot_list, Noise, parse_robot,
+                                              RobotFileError)
+import yaml
+
+# The layout of STDR's own pandora_robot.yaml (the values are ours).
+STDR_ROBOT = """
+initial_pose: {x: 1.5, y: 2.5, theta: 0.5}
+footprint: {radius: 0.15, points: []}
+kinematic: {type: ""}
+sensors:
+  lasers:
+    - {max_angle: 2.35, min_angle: -2.35, max_range: 4, min_range: 0, num_rays: 270,
+       noise: {mean: 0.5, std: 0.2}, frequency: 10, frame_id: laser_0,
+       pose: {x: 0.1, y: 0, theta: 0}}
+  sonars:
+    - {max_range: 3, min_range: 0.3, cone_angle: 0.52, noise: {mean: 0, std: 0},
+       frequency: 5, frame_id: sonar_0, pose: {x: 0, y: 0.1, theta: 1.57}}
+  rfids: []
+"""
+
+
+def test_stdr_robot_file_loads(tmp_path):
+    path = tmp_path / 'pandora.yaml'
+    path.write_text(STDR_ROBOT)
+    robot = load_robot(path)
+    assert robot.radius == 0.15 and robot.initial_pose == (1.5, 2.5, 0.5)
+    laser, = robot.lasers
+    assert (laser.frame_id, laser.num_rays, laser.min_angle, laser.max_range) == (
+        'laser_0', 270, -2.35, 4.0)
+    assert laser.noise == Noise(0.5, 0.2) and laser.pose == (0.1, 0.0, 0.0)
+    sonar, = robot.sonars
+    assert (sonar.frame_id, sonar.cone_angle, sonar.frequency) == ('sonar_0', 0.52, 5.0)
+
+
+def test_bundled_lab_robot_is_the_lab_s():
+    robot = load_robot(shared_file('robots', 'lab_robot.yaml'))
+    laser, = robot.lasers
+    assert robot.radius == 0.2
+    assert (laser.num_rays, laser.min_range, laser.max_range, laser.frequency) == (
+        667, 0.06, 4.09, 10.0)
+    assert laser.max_angle == pytest.approx(math.radians(120), abs=1e-4) == -laser.min_angle
+    assert robot.sonars and all(
+        (sonar.cone_angle, sonar.min_range, sonar.max_range) == (0.87, 0.15, 3.0)
+        for sonar in robot.sonars)
+
+
+def edited(path_and_value):
+    data = yaml.safe_load(STDR_ROBOT)
+    path, value = path_and_value
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    if value is None:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return data
+
+
+@pytest.mark.parametrize('change, message', [
+    ((('footprint', 'radius'), -1), 'footprint.radius: must be positive, got -1'),
+    ((('footprint', 'radius'), None), 'footprint.radius: missing'),
+    ((('footprint', 'points'), [[0, 0], [1, 0]]), 'footprint.points: polygon footprints are not'),
+    ((('sensors', 'lasers', 0, 'num_rays'), 2.5), 'sensors.lasers[0].num_rays: expected a '
+     'whole number'),
+    ((('sensors', 'lasers', 0, 'max_range'), 'far'),
+     "sensors.lasers[0].max_range: expected a finite number, got 'far'"),
+    ((('sensors', 'sonars', 0, 'max_range'), 0.2), 'sensors.sonars[0].max_range: 0.2 must '
+     'exceed min_range 0.3'),
+    ((('sensors', 'sonars', 0, 'noise'), {'mean': 0, 'std': -1}),
+     'sensors.sonars[0].noise.std: must not be negative'),
+    ((('sensors', 'lasers', 0, 'frame_id'), 'laser 0'), 'sensors.lasers[0].frame_id: expected '
+     'a ROS name'),
+    ((('initial_pose', 'theta'), float('nan')), 'initial_pose.theta: expected a finite number'),
+])
+def test_bad_robot_is_one_line_naming_the_key(change, message):
+    with pytest.raises(RobotFileError) as raised:
+        parse_robot(edited(change), 'robot.yaml')
+    assert f'robot.yaml: {message}' in str(raised.value)
+    assert '\n' not in str(raised.value)
+
+
+def test_nested_stdr_format_is_refused_clearly():
+    with pytest.raises(RobotFileError, match='nested robot_specifications format'):
+        parse_robot({'robot': {'robot_specifications': []}}, 'old.yaml')
+
+
+def test_unreadable_robot_file_is_named(tmp_path):
+    with pytest.raises(RobotFileError, match='missing.yaml: cannot read robot file'):
+        load_robot(tmp_path / 'missing.yaml')
+    broken = tmp_path / 'broken.yaml'
+    broken.write_text('footprint: [\n')
+    with pytest.raises(RobotFileError, match='broken.yaml:2: robot file is not valid YAML'):
+        load_robot(broken)
+
+
+def test_robot_list_defaults_names_poses_and_descriptions(tmp_path):
+    (tmp_path / 'small.yaml').write_text(STDR_ROBOT)
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots:\n  - {}\n  - {name: scout, description: small.yaml}\n'
+                      '  - {pose: [3, 4, 0.5]}\n')
+    default = load_robot(shared_file(*BUNDLED_ROBOT))
+    entries = load_robot_list(robots, default)
+    assert [entry.name for entry in entries] == ['robot0', 'scout', 'robot2']
+    assert entries[0].description == default and entries[0].pose == default.initial_pose
+    assert entries[1].description.radius == 0.15 and entries[1].pose == (1.5, 2.5, 0.5)
+    assert entries[2].pose == (3.0, 4.0, 0.5)
+
+
+@pytest.mark.parametrize('text, message', [
+    ('robots: []\n', 'robots: the list is empty'),
+    ('robots:\n  - {name: a}\n  - {name: a}\n', 'names must be unique; repeated: a'),
+    ('robots:\n  - {pose: [1, 2]}\n', 'robots[0].pose: expected [x, y, theta]'),
+    ('robots:\n  - {speed: 3}\n', "robots[0]: unknown keys ['speed']"),
+    ('robots:\n  - {description: nowhere.yaml}\n', 'nowhere.yaml: cannot read robot file'),
+])
+def test_bad_robot_list_is_one_line(tmp_path, text, message):
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text(text)
+    with pytest.raises(RobotFileError) as raised:
+        load_robot_list(robots, load_robot(shared_file(*BUNDLED_ROBOT)))
+    assert message in str(raised.value) and '\n' not in str(raised.value)

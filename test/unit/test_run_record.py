@@ -1,0 +1,94 @@
+"""Run records: what the writer writes, the reader reads back; bad records are one-line errors."""
+
+import json
+import math
+
+import pytest
+from waypoint_controller.run_record import load_run, RunRecordError, RunRecordWriter, StatusClock
+from waypoint_controller.waypoints import Waypoint
+
+HEADER = {'course': 'square.txt', 'waypoints': [[1.0, 2.0, 0.5]], 'distance_tolerance': 0.1,
+          'angle_tolerance': 0.087}
+
+
+def test_written_record_reads_back(tmp_path):
+    path = tmp_path / 'run.jsonl'
+    writer = RunRecordWriter(path, 'square.txt', [Waypoint(1.0, 2.0, 0.5), Waypoint(3, 4, -1)],
+                             0.1, math.radians(5.0))
+    writer.status(0.0, 'STARTED 0.000 0.000 0.00')
+    writer.pose(0.0, (0.0, 0.0, 0.0))
+    writer.pose(0.02, (0.01, 0.0, 0.1))
+    writer.status(4.5, 'FINISHED')
+    writer.close()
+    record = load_run(path)
+    assert record.course == 'square.txt'
+    assert record.waypoints == [Waypoint(1.0, 2.0, 0.5), Waypoint(3.0, 4.0, -1.0)]
+    assert (record.distance_tolerance, record.angle_tolerance) == (0.1, math.radians(5.0))
+    assert record.times == [0.0, 0.02]
+    assert record.poses == [(0.0, 0.0, 0.0), (0.01, 0.0, 0.1)]
+    assert record.statuses == [(0.0, 'STARTED 0.000 0.000 0.00'), (4.5, 'FINISHED')]
+    assert (record.result, record.duration) == ('FINISHED', 4.5)
+
+
+def test_unfinished_record_has_no_result(tmp_path):
+    path = tmp_path / 'run.jsonl'
+    path.write_text(json.dumps(HEADER) + '\n' + '{"t": 0.0, "status": "STARTED 0 0 0"}\n')
+    assert load_run(path).result is None
+
+
+@pytest.mark.parametrize('lines, message', [
+    ([], 'run.jsonl: empty run record'),
+    (['{"course": "x"'], 'run.jsonl:1: not JSON'),
+    (['[1, 2]'], 'run.jsonl:1: not a JSON object'),
+    (['{"course": "x"}'], "run.jsonl:1: not a run header (KeyError('waypoints')"),
+    ([json.dumps(dict(HEADER, waypoints=[[1.0, 2.0]]))], 'run.jsonl:1: expected 3 finite'),
+    ([json.dumps(HEADER), '{"t": 1.0, "pose": [1.0, NaN, 0.0]}'],
+     'run.jsonl:2: expected 3 finite numbers, got [1.0, nan, 0.0]'),
+    ([json.dumps(HEADER), '{"t": "soon", "status": "FINISHED"}'],
+     "run.jsonl:2: expected 1 finite number, got ['soon']"),
+    ([json.dumps(HEADER), '', '{"t": 1.0, "speed": 3}'],
+     'run.jsonl:3: neither a pose nor a status'),
+])
+def test_bad_record_is_one_line_naming_file_and_line(tmp_path, lines, message):
+    path = tmp_path / 'run.jsonl'
+    path.write_text(''.join(line + '\n' for line in lines))
+    with pytest.raises(RunRecordError) as raised:
+        load_run(path)
+    assert message in str(raised.value)
+    assert '\n' not in str(raised.value)
+
+
+def test_missing_record_is_named(tmp_path):
+    with pytest.raises(RunRecordError, match='nothing.jsonl: cannot read run record'):
+        load_run(tmp_path / 'nothing.jsonl')
+
+
+def drive(clock, poses, start=0.0, step=0.02):
+    for index, pose in enumerate(poses):
+        clock.odometry(start + index * step, pose)
+
+
+def test_status_is_dated_by_the_odometry_showing_its_pose():
+    clock = StatusClock()
+    standing = [(1.0, 2.0, 0.0)] * 5
+    moving = [(1.0 + 0.01 * k, 2.0, 0.0) for k in range(1, 20)]
+    drive(clock, standing + moving)
+    assert clock.now == pytest.approx(23 * 0.02)
+    assert clock.date('STARTED 1.000 2.000 0.00') == 0.0
+    assert clock.date('WAYPOINT 1 1.100 2.000 0.00') == pytest.approx(14 * 0.02)
+    assert clock.date('FINISHED') == pytest.approx(14 * 0.02)
+
+
+def test_status_without_a_matching_pose_is_dated_now():
+    clock = StatusClock()
+    drive(clock, [(1.0, 2.0, 0.0), (1.1, 2.0, 0.0)])
+    assert clock.date('WAYPOINT 1 5.000 5.000 0.00') == pytest.approx(0.02)
+    assert clock.date('ABORTED 2 1.000 2.000 0.00') == pytest.approx(0.02)
+
+
+def test_heading_matches_across_the_wrap_and_repeated_stamps_are_ignored():
+    clock = StatusClock()
+    assert clock.odometry(0.0, (0.0, 0.0, math.pi))
+    assert not clock.odometry(0.0, (9.0, 9.0, 0.0))
+    clock.odometry(0.02, (0.0, 0.0, 1.0))
+    assert clock.date('WAYPOINT 1 0.000 0.000 -180.00') == 0.0

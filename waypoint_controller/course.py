@@ -1,0 +1,59 @@
+"""
+What the controller and the monitor of a run share: the course, its goal set, its topics.
+
+course_monitor watches the run that waypoint_controller drives, so both read the course by the
+same rules, declare these parameters with the same meaning, and use the same QoS for
+robot_status.
+"""
+
+import math
+
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from simple_robot_control.node_runtime import ConfigError, ParameterSpec, require
+from simple_robot_control.share import BUNDLED_COURSE, shared_file
+from simple_robot_control.validation import Bounds
+from waypoint_controller.control_law import ControllerConfig
+from waypoint_controller.waypoints import load_waypoints, WaypointFileError
+
+DEFAULTS = ControllerConfig()
+STATUS_TOPIC = 'robot_status'
+
+COURSE_PARAMETERS = (
+    ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
+                  'empty: the command-line argument, or else the bundled '
+                  f'{BUNDLED_COURSE[-1]}'),
+    ParameterSpec('robot_name', 'robot0', 'the robot of the run: topics <name>/odom and '
+                  '<name>/cmd_vel', ros_name=True),
+    ParameterSpec('distance_tolerance', DEFAULTS.distance_tolerance, 'goal set radius d [m]',
+                  Bounds(0.0, 10.0, low_open=True), tunable=True),
+    ParameterSpec('angle_tolerance_deg', math.degrees(DEFAULTS.angle_tolerance),
+                  'goal set heading tolerance t [degrees, as in the lab]',
+                  Bounds(0.0, 180.0, low_open=True), tunable=True),
+)
+
+
+def load_course(node, argument, parameter):
+    """
+    Return (path, waypoints) of the course from the argument, the parameter or the default.
+
+    Giving both is an error, as is a bad file; giving neither picks the bundled course and
+    logs that it did.
+    """
+    require(not (argument and parameter),
+            f'waypoint file given twice: argument {argument!r} and parameter '
+            f'waypoint_file {parameter!r}; give one')
+    path = argument or parameter
+    if not path:
+        path = shared_file(*BUNDLED_COURSE)
+        node.get_logger().info(f'no waypoint file given: using the bundled {BUNDLED_COURSE[-1]}')
+    try:
+        return path, load_waypoints(path)
+    except WaypointFileError as error:
+        raise ConfigError(str(error)) from None
+
+
+def status_qos(waypoint_count):
+    """Reliable, transient local, and deep enough to replay a whole run to a late subscriber."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=waypoint_count + 2,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -1,0 +1,142 @@
+"""
+course_monitor: print robot_status as it arrives, show progress, and record the run.
+
+It only listens, so it can watch any waypoint_controller run, including one already under way:
+robot_status is transient local, so it still receives every message from STARTED on.
+"""
+
+import dataclasses
+import math
+import os
+import sys
+import time
+
+from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.task import Future
+from rclpy.time import Time
+from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
+                                               EXIT_FAILED, EXIT_OK, ParameterSpec, run)
+from simple_robot_control.pose import pose_from_message
+from std_msgs.msg import String
+from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
+from waypoint_controller.run_record import RunRecordWriter, StatusClock
+from waypoint_controller.status import ABORTED, FINISHED, parse_status, STARTED, WAYPOINT
+
+PROGRESS_PERIOD = 0.1
+BAR_WIDTH = 20
+
+# The monitor only describes the run: the controller's tunable values are fixed here.
+PARAMETERS = tuple(dataclasses.replace(spec, tunable=False) for spec in COURSE_PARAMETERS) + (
+    ParameterSpec('record_file', '', 'write the run (odometry and robot_status) to this file '
+                  'as JSON lines, for plot_run; empty: no record'),
+)
+
+DESCRIPTION = ('course_monitor: print each robot_status message of a waypoint_controller run '
+               'as it arrives, with a progress line (waypoints done, sim and wall time) on a '
+               'terminal, and optionally record the run for plot_run. Exits 0 on FINISHED, '
+               '1 on ABORTED. Give it the same course and tolerances as the controller.')
+
+
+class CourseMonitor(Node):
+    """Listens to robot_status and odometry; the output goes to write(text)."""
+
+    def __init__(self, waypoint_file=None, write=None, interactive=None, **kwargs):
+        super().__init__('course_monitor', **kwargs)
+        self.finished = Future()
+        params = declare_parameters(self, PARAMETERS)
+        path, waypoints = load_course(self, waypoint_file, params['waypoint_file'])
+        self._write = write or _write_stdout
+        self._interactive = sys.stdout.isatty() if interactive is None else interactive
+        self._total = len(waypoints)
+        self._done = 0
+        self._clock = StatusClock()
+        self._sim_started = 0.0
+        self._wall_started = None
+        self._progress_shown = False
+        self._record = None
+        if params['record_file']:
+            try:
+                self._record = RunRecordWriter(
+                    params['record_file'], os.path.basename(path), waypoints,
+                    params['distance_tolerance'], math.radians(params['angle_tolerance_deg']))
+            except OSError as error:
+                raise ConfigError(f'{params["record_file"]}: cannot write the run record: '
+                                  f'{error.strerror}') from None
+        self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
+        self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,
+                                 100)
+        self.create_timer(PROGRESS_PERIOD, self._show_progress,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    def _on_odometry(self, message):
+        stamp = Time.from_msg(message.header.stamp).nanoseconds * 1e-9
+        pose = pose_from_message(message.pose.pose)
+        if self._clock.odometry(stamp, pose) and self._record is not None:
+            self._record.pose(stamp, pose)
+
+    def _on_status(self, message):
+        if self.finished.done():
+            return
+        text = message.data
+        status = parse_status(text)
+        kind = status.kind if status is not None else None
+        date = self._clock.date(text)
+        if kind == STARTED:
+            self._wall_started = time.monotonic()
+            self._sim_started = date
+        elif kind == WAYPOINT:
+            self._done += 1
+        self._clear_progress()
+        self._write(text + '\n')
+        if self._record is not None:
+            self._record.status(date, text)
+        if kind in (FINISHED, ABORTED):
+            self._write(self._progress_text(date) + '\n')
+            self.finished.set_result(EXIT_OK if kind == FINISHED else EXIT_FAILED)
+        else:
+            self._show_progress()
+
+    def _progress_text(self, sim_time=None):
+        sim_time = self._clock.now if sim_time is None else sim_time
+        wall = 0.0 if self._wall_started is None else time.monotonic() - self._wall_started
+        filled = round(BAR_WIDTH * self._done / self._total)
+        return (f'[{"#" * filled}{"." * (BAR_WIDTH - filled)}] {self._done}/{self._total} '
+                f'waypoints | sim {sim_time - self._sim_started:.1f} s | '
+                f'wall {wall:.1f} s')
+
+    def _show_progress(self):
+        """Redraw the progress line in place; only on a terminal, where it can be redrawn."""
+        if self._interactive and not self.finished.done():
+            self._write('\r' + self._progress_text() + '\x1b[K')
+            self._progress_shown = True
+
+    def _clear_progress(self):
+        if self._progress_shown:
+            self._write('\r\x1b[K')
+            self._progress_shown = False
+
+    def shut_down(self):
+        """Close the record, so even an interrupted run leaves every line it received."""
+        self._clear_progress()
+        if self._record is not None:
+            self._record.close()
+
+
+def _write_stdout(text):
+    sys.stdout.write(text)
+    sys.stdout.flush()
+
+
+def main(argv=None):
+    parser = build_parser('course_monitor', DESCRIPTION, PARAMETERS)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='the course the controller follows (for the waypoint count and '
+                        'the record); the waypoint_file parameter is the alternative')
+    sys.exit(run('course_monitor', parser,
+                 lambda options: CourseMonitor(options.waypoint_file), argv))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,191 @@
+"""The waypoint_controller node: follows a waypoint file and reports on robot_status."""
+
+import dataclasses
+import math
+import sys
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.task import Future
+from rclpy.time import Time
+from simple_robot_control.node_runtime import (accept_tuning, build_parser, ConfigError,
+                                               declare_parameters, EXIT_FAILED, EXIT_OK,
+                                               ParameterSpec, run)
+from simple_robot_control.pose import pose_from_message
+from simple_robot_control.validation import Bounds
+from std_msgs.msg import String
+from waypoint_controller.control_law import CourseFollower
+from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course, status_qos,
+                                        STATUS_TOPIC)
+from waypoint_controller.schedule import ControlSchedule
+from waypoint_controller.stall import StallDetector
+from waypoint_controller.status import aborted, finished, started, waypoint_reached
+
+SPEED = Bounds(0.0, 10.0, low_open=True)
+GAIN = Bounds(0.0, 1000.0)
+PROPORTIONAL_GAIN = Bounds(0.0, 1000.0, low_open=True)
+
+PARAMETERS = COURSE_PARAMETERS + (
+    ParameterSpec('max_linear_speed', DEFAULTS.max_linear_speed, 'speed limit [m/s]', SPEED,
+                  tunable=True),
+    ParameterSpec('max_angular_speed', DEFAULTS.max_angular_speed, 'turn-rate limit [rad/s]',
+                  SPEED, tunable=True),
+    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of odometry stamp time]',
+                  Bounds(5.0, 100.0)),
+    ParameterSpec('stall_timeout', 10.0, 'abort when no progress towards the current waypoint '
+                  'for this long [s of odometry stamp time]', Bounds(0.0, 3600.0, low_open=True)),
+    ParameterSpec('heading_kp', DEFAULTS.heading_kp, 'heading PID proportional gain [1/s]',
+                  PROPORTIONAL_GAIN, tunable=True),
+    ParameterSpec('heading_ki', DEFAULTS.heading_ki, 'heading PID integral gain [1/s^2]', GAIN,
+                  tunable=True),
+    ParameterSpec('heading_kd', DEFAULTS.heading_kd, 'heading PID derivative gain [-]', GAIN,
+                  tunable=True),
+    ParameterSpec('distance_kp', DEFAULTS.distance_kp, 'distance PID proportional gain [1/s]',
+                  PROPORTIONAL_GAIN, tunable=True),
+    ParameterSpec('distance_ki', DEFAULTS.distance_ki, 'distance PID integral gain [1/s^2]',
+                  GAIN, tunable=True),
+    ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]', GAIN,
+                  tunable=True),
+)
+
+_CONFIG_FIELDS = ('max_linear_speed', 'max_angular_speed', 'distance_tolerance', 'heading_kp',
+                  'heading_ki', 'heading_kd', 'distance_kp', 'distance_ki', 'distance_kd')
+
+DESCRIPTION = ('waypoint_controller: drive the robot through the waypoints of WAYPOINT_FILE '
+               '(x y theta triples in m, m, degrees) and report STARTED, WAYPOINT n, FINISHED '
+               'or ABORTED on robot_status. Exit code 0 when finished, 1 when aborted, 2 for '
+               'bad input.')
+
+
+def controller_config(values):
+    """Return the ControllerConfig that parameter values (by name) describe."""
+    return dataclasses.replace(
+        DEFAULTS, angle_tolerance=math.radians(values['angle_tolerance_deg']),
+        **{name: values[name] for name in _CONFIG_FIELDS})
+
+
+class WaypointController(Node):
+    """Reads odometry, commands velocities, and reports progress on robot_status."""
+
+    def __init__(self, waypoint_file=None, **kwargs):
+        super().__init__('waypoint_controller', **kwargs)
+        self.finished = Future()
+        params = declare_parameters(self, PARAMETERS)
+        path, waypoints = load_course(self, waypoint_file, params['waypoint_file'])
+        self._tuned = {name: params[name] for name in _CONFIG_FIELDS + ('angle_tolerance_deg',)}
+        try:
+            self._follower = CourseFollower(waypoints, controller_config(self._tuned))
+        except ValueError as error:
+            raise ConfigError(str(error)) from None
+        self._pending_config = None
+        accept_tuning(self, PARAMETERS, self._on_tuning)
+        self._stall = StallDetector(params['stall_timeout'])
+        self._schedule = ControlSchedule(round(1e9 / params['control_rate_hz']))
+        self._pose = None
+        self._stamp = None
+        self._answered = None
+        self._command = Twist()
+        self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
+                                                       status_qos(len(waypoints)))
+        robot = params['robot_name']
+        self._cmd_publisher = self.create_publisher(Twist, f'{robot}/cmd_vel', 10)
+        self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
+                                                    self._on_odometry, 10).topic_name
+        self._odometry_watch = self.create_timer(
+            5.0, self._warn_while_waiting, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
+
+    def _on_tuning(self, changes):
+        """Keep tuned values for the next control tick, where they take effect together."""
+        self._tuned.update(changes)
+        self._pending_config = controller_config(self._tuned)
+
+    def _on_odometry(self, message):
+        """
+        Answer each new odometry stamp with exactly one cmd_vel.
+
+        The command is recomputed once per control period of odometry time and held in
+        between, so the commands depend only on the odometry, and a simulator in lockstep can
+        count answers. A repeated stamp is answered only if its first answer had nobody to
+        receive it.
+        """
+        if self.finished.done():
+            return
+        stamp = Time.from_msg(message.header.stamp).nanoseconds
+        if stamp != self._stamp:
+            self._stamp = stamp
+            self._control_step(pose_from_message(message.pose.pose), stamp)
+        if self._answered != stamp and self._cmd_publisher.get_subscription_count() > 0:
+            self._cmd_publisher.publish(self._command)
+            self._answered = stamp
+
+    def _control_step(self, pose, stamp):
+        now = stamp * 1e-9
+        first = self._pose is None
+        self._pose = pose
+        if first:
+            self._report(started(pose))
+            self._stall.restart(now)
+        for index in self._follower.check(pose):
+            self._report(waypoint_reached(index + 1, pose))
+            self._stall.restart(now)
+        if self._follower.finished:
+            self._report(finished())
+            self._stop(EXIT_OK)
+            return
+        distance, heading_error = self._follower.errors(pose)
+        if self._stall.stalled(now, distance, heading_error):
+            goal = self._follower.current
+            number = self._follower.next_index + 1
+            self.get_logger().error(
+                f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
+                f'unreachable: no progress for {self._stall.timeout:g} s, still '
+                f'{distance:.2f} m away')
+            self._report(aborted(number, pose))
+            self._stop(EXIT_FAILED)
+            return
+        elapsed = self._schedule.due(stamp)
+        if elapsed is not None:
+            if self._pending_config is not None:
+                self._follower.reconfigure(self._pending_config)
+                self._pending_config = None
+            step = self._follower.update(pose, elapsed * 1e-9)
+            self._command = Twist()
+            self._command.linear.x, self._command.angular.z = step.linear, step.angular
+
+    def _warn_while_waiting(self):
+        if self._pose is None:
+            self.get_logger().warn(f'waiting for odometry on {self._odom_topic}: is stdr_lite '
+                                   'running?')
+        else:
+            self._odometry_watch.cancel()
+
+    def _report(self, text):
+        self.get_logger().info(text)
+        self._status_publisher.publish(String(data=text))
+
+    def _stop(self, exit_code):
+        self._command = Twist()
+        if not self.finished.done():
+            self.finished.set_result(exit_code)
+
+    def shut_down(self):
+        """Stop the robot and give late robot_status subscribers a moment to catch up."""
+        self._stop(EXIT_OK)
+        self._cmd_publisher.publish(self._command)
+        self._status_publisher.wait_for_all_acked(Duration(seconds=1.0))
+
+
+def main(argv=None):
+    parser = build_parser('waypoint_controller', DESCRIPTION, PARAMETERS)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='waypoint file; the waypoint_file parameter is the alternative')
+    sys.exit(run('waypoint_controller', parser,
+                 lambda options: WaypointController(options.waypoint_file), argv))
+
+
+if __name__ == '__main__':
+    main()
