@@ -6,6 +6,9 @@ from setuptools import find_packages, setup
 
 PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
+# Each is started by simple_robot_control/executables.py, which names its module.
+EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'waypoint_controller', 'course_monitor',
+               'plot_run')
 
 setup(
     name=PACKAGE_NAME,
@@ -30,13 +33,7 @@ setup(
     license='Apache-2.0',
     extras_require={'test': ['pytest', 'hypothesis']},
     entry_points={
-        'console_scripts': [
-            'stdr_lite = stdr_lite.node.stdr_lite:main',
-            'move_robot = stdr_lite.tools.move_robot:main',
-            'waypoint_controller = waypoint_controller.waypoint_controller:main',
-            'course_monitor = waypoint_controller.course_monitor:main',
-            'plot_run = waypoint_controller.plot_run:main',
-            'stdr_viewer = stdr_lite.viewer.stdr_viewer:main',
-        ],
+        'console_scripts': [f'{name} = {PACKAGE_NAME}.executables:{name}'
+                            for name in EXECUTABLES],
     },
 )

@@ -11,12 +11,17 @@ and the sensors of ten robots are read.
 """
 
 import argparse
+from contextlib import contextmanager
 import os
+from pathlib import Path
 import random
+import signal
 import subprocess
 import sys
+from tempfile import TemporaryDirectory
 import time
 
+from nav_msgs.msg import Odometry
 import numpy as np
 import rclpy
 from rclpy.context import Context
@@ -59,39 +64,50 @@ def spin_until(executor, condition, timeout=RUN_TIMEOUT):
         executor.spin_once(timeout_sec=0.1)
 
 
-def drive_course(course, separate_process):
-    """Run the course; return (sim seconds, wall seconds, answer latencies in seconds)."""
+@contextmanager
+def ros_session():
+    """Give (context, executor) of a Context of their own; destroy every node afterwards."""
     context = Context()
     rclpy.init(context=context)
     executor = EventsExecutor(context=context)
-    controller_process = None
     try:
-        simulator = StdrLite(context=context, parameter_overrides=[
-            Parameter('lockstep', value=True), Parameter('real_time_factor', value=0.0)])
-        watch = StatusWatch(context)
-        for node in (simulator, watch):
-            executor.add_node(node)
-        if separate_process:
-            controller_process = subprocess.Popen(
-                [os.path.join(os.path.dirname(sys.executable), 'waypoint_controller'), course,
-                 '--ros-args', '--log-level', 'warn'])
-        else:
-            executor.add_node(WaypointController(course, context=context))
-        spin_until(executor, lambda: simulator.sim_time > 0.0)
-        started_sim, started_wall = simulator.sim_time, time.perf_counter()
-        spin_until(executor, lambda: watch.last is not None)
-        wall = time.perf_counter() - started_wall
-        if watch.last != 'FINISHED':
-            raise RuntimeError(f'the course ended with {watch.last}')
-        return simulator.sim_time - started_sim, wall, np.array(simulator.answer_latencies)
+        yield context, executor
     finally:
-        if controller_process is not None:
-            controller_process.wait(timeout=30)
         for node in executor.get_nodes():
             executor.remove_node(node)
             node.destroy_node()
         executor.shutdown()
         rclpy.try_shutdown(context=context)
+
+
+def drive_course(course, separate_process):
+    """Run the course; return (sim seconds, wall seconds, answer latencies in seconds)."""
+    controller_process = None
+    with ros_session() as (context, executor):
+        try:
+            simulator = StdrLite(context=context, parameter_overrides=[
+                Parameter('lockstep', value=True), Parameter('real_time_factor', value=0.0)])
+            watch = StatusWatch(context)
+            for node in (simulator, watch):
+                executor.add_node(node)
+            if separate_process:
+                controller_process = subprocess.Popen(
+                    [os.path.join(os.path.dirname(sys.executable), 'waypoint_controller'),
+                     course, '--ros-args', '--log-level', 'warn'])
+            else:
+                executor.add_node(WaypointController(course, context=context))
+            spin_until(executor, lambda: simulator.sim_time > 0.0)
+            started_sim, started_wall = simulator.sim_time, time.perf_counter()
+            spin_until(executor, lambda: watch.last is not None)
+            wall = time.perf_counter() - started_wall
+            if watch.last != 'FINISHED':
+                raise RuntimeError(f'the course ended with {watch.last}')
+            return simulator.sim_time - started_sim, wall, np.array(simulator.answer_latencies)
+        finally:
+            if controller_process is not None:
+                if controller_process.poll() is None:
+                    controller_process.send_signal(signal.SIGINT)
+                controller_process.wait(timeout=30)
 
 
 def crowded_simulation(robot_count, seed):
@@ -119,6 +135,41 @@ def robot_steps_per_second(robot_count, steps, seed=1):
     for _ in range(steps):
         simulation.step()
     return robot_count * steps / (time.perf_counter() - started)
+
+
+def node_real_time_factor(robot_count, listened, seconds=5.0):
+    """
+    Sim seconds per wall second of the whole stdr_lite node, free-running unpaced.
+
+    The robots carry no sensors and stand still; every step publishes every robot's odometry
+    (and /clock), listened to by a node in this process when listened is true.
+    """
+    with TemporaryDirectory() as folder, ros_session() as (context, executor):
+        robots = write_robot_grid(Path(folder), robot_count)
+        simulator = StdrLite(context=context, parameter_overrides=[
+            Parameter('robots_file', value=str(robots)), Parameter('real_time_factor', value=0.0)])
+        executor.add_node(simulator)
+        if listened:
+            listener = Node('listener', context=context)
+            for name in simulator.simulation.names:
+                listener.create_subscription(Odometry, f'/{name}/odom', lambda _: None, 10)
+            executor.add_node(listener)
+        spin_until(executor, lambda: simulator.sim_time > 0.0)
+        started_sim, started_wall = simulator.sim_time, time.perf_counter()
+        deadline = started_wall + seconds
+        while time.perf_counter() < deadline:
+            executor.spin_once(timeout_sec=0.1)
+        return (simulator.sim_time - started_sim) / (time.perf_counter() - started_wall)
+
+
+def write_robot_grid(folder, robot_count):
+    """Write a list of robot_count sensorless robots on a grid in the lab room."""
+    (folder / 'plain.yaml').write_text('footprint: {radius: 0.2}\n')
+    rows = [f'  - {{description: plain.yaml, pose: [{0.6 + 0.47 * (k % 40):.2f}, '
+            f'{0.6 + 0.55 * (k // 40):.2f}, 0.0]}}' for k in range(robot_count)]
+    path = folder / 'robots.yaml'
+    path.write_text('robots:\n' + '\n'.join(rows) + '\n')
+    return path
 
 
 def keep_dds_on_loopback():
@@ -170,6 +221,11 @@ def main(argv=None):
     for count in args.robots:
         rate = robot_steps_per_second(count, steps=max(200, 20000 // count))
         print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f}', flush=True)
+    print('the whole stdr_lite node, free-running unpaced, odometry of every robot published')
+    print(f'{"robots":>7} {"RTF":>9} {"RTF, odometry listened to":>26}')
+    for count in args.robots:
+        alone, listened = (node_real_time_factor(count, listened) for listened in (False, True))
+        print(f'{count:7d} {alone:8.2f}x {listened:25.2f}x', flush=True)
     loads = sensor_load()
     print(f'sensors of 10 lab robots (667-ray laser, 5 sonars, 10 Hz each): '
           f'{np.median(loads):.1%} of one core (median of {len(loads)} batches, '

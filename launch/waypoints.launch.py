@@ -2,15 +2,25 @@
 Run a waypoint course in stdr_lite.
 
 ros2 launch simple_robot_control waypoints.launch.py waypoint_file:=/path/to/course.txt
+
+The launch ends when the controller does, and says how it ended (finished, aborted, or input
+refused): `ros2 launch` itself returns 0 whatever its nodes did.
 """
 
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, EmitEvent, RegisterEventHandler
+from launch.actions import DeclareLaunchArgument, EmitEvent, LogInfo, RegisterEventHandler
 from launch.event_handlers import OnProcessExit
 from launch.events import Shutdown
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
+from simple_robot_control.exit_codes import describe_exit
+
+
+def report_and_shut_down(event, context):
+    """Say how the controller ended, then end the launch."""
+    outcome = describe_exit('waypoint_controller', event.returncode)
+    return [LogInfo(msg=outcome), EmitEvent(event=Shutdown(reason=outcome))]
 
 
 def generate_launch_description():
@@ -39,5 +49,5 @@ def generate_launch_description():
                                                      value_type=bool)}]),
         controller,
         RegisterEventHandler(OnProcessExit(target_action=controller,
-                                           on_exit=[EmitEvent(event=Shutdown())])),
+                                           on_exit=report_and_shut_down)),
     ])

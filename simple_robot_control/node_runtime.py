@@ -2,9 +2,9 @@
 
 import argparse
 from dataclasses import dataclass
+import os
 import signal
 import sys
-import threading
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
 import rclpy
@@ -12,13 +12,14 @@ from rclpy.exceptions import InvalidParameterTypeException, ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
 from rclpy.utilities import remove_ros_args
+from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
 from simple_robot_control.validation import Bounds, compact, is_finite_number, ros_name_problem
 
-EXIT_OK = 0
-EXIT_FAILED = 1
-EXIT_BAD_INPUT = 2
 SIGNAL_CHECK_PERIOD = 0.1
+# Up to this many publishers and subscriptions, a node is taken down endpoint by endpoint.
+ORDERLY_TEARDOWN_LIMIT = 1000
 
 _TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
           float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING,
@@ -156,38 +157,93 @@ def run(prog, parser, make_node, argv=None):
     """
     Parse the command line, run the node until it finishes, and return an exit code.
 
-    The node must have a `finished` future (its result is the exit code) and a `shut_down()`
-    method that runs before the node is destroyed, while it can still publish. Ctrl-C and
-    SIGTERM end the run with exit code 0 after shut_down().
+    The node must have a `finished` future (its result is the exit code, or a ConfigError for
+    input found bad while running) and a `shut_down()` method that runs before the node is
+    destroyed, while it can still publish. Ctrl-C and SIGTERM end the run with exit code 0
+    after shut_down(), however busy the node is.
     """
     argv = list(sys.argv if argv is None else argv)
     options = parser.parse_args(remove_ros_args(argv)[1:])
-    stop_requested = threading.Event()
+    ending = _Ending()
     # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with SIGINT
-    # then SIGTERM, so the handlers are ours whatever the parent set up. They only set a flag:
-    # Python runs them between callbacks, where raising would abort a callback half done.
+    # then SIGTERM, so the handlers are ours whatever the parent set up.
     for signal_number in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signal_number, lambda *_: stop_requested.set())
+        signal.signal(signal_number, ending.on_signal)
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = executor = None
+    code, leave_endpoints = EXIT_OK, False
     try:
         node = make_node(options)
+        node.finished.add_done_callback(lambda _: ending.complete())
         executor = EventsExecutor()
         executor.add_node(node)
-        # Short spins return control to Python, so a signal is seen within one of them.
-        while not (node.finished.done() or stop_requested.is_set()):
-            executor.spin_until_future_complete(node.finished, timeout_sec=SIGNAL_CHECK_PERIOD)
-        return node.finished.result() if node.finished.done() else EXIT_OK
+        ending.node_runs = True
+        while not ending.future.done():
+            executor.spin_until_future_complete(ending.future, timeout_sec=SIGNAL_CHECK_PERIOD)
+        code = node.finished.result() if node.finished.done() else EXIT_OK
     except ConfigError as error:
         print(f'{prog}: error: {error}', file=sys.stderr)
-        return EXIT_BAD_INPUT
+        code = EXIT_BAD_INPUT
     except ExternalShutdownException:
-        return EXIT_OK
+        code = EXIT_OK
+    except _Interrupted:
+        leave_endpoints = True
     finally:
         if executor is not None:
             executor.remove_node(node)
             executor.shutdown()
         if node is not None:
             node.shut_down()
-            node.destroy_node()
+            leave_endpoints = _endpoint_count(node) > ORDERLY_TEARDOWN_LIMIT
+            if not leave_endpoints:
+                node.destroy_node()
         rclpy.try_shutdown()
+    if leave_endpoints:
+        _exit_now(code)
+    return code
+
+
+def _endpoint_count(node):
+    return sum(1 for _ in node.publishers) + sum(1 for _ in node.subscriptions)
+
+
+def _exit_now(code):
+    """
+    End the process without withdrawing the node's endpoints one by one.
+
+    rmw republishes a node's whole list of endpoints each time one is withdrawn, so withdrawing
+    thousands (a large swarm) takes tens of seconds; other nodes instead see them go when the
+    middleware's lease on this process expires (about 20 s). The node has said its last words
+    in shut_down() and the context is shut down: only the bookkeeping is skipped.
+    """
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
+class _Interrupted(Exception):
+    """A signal came while the node was being built."""
+
+
+class _Ending:
+    """
+    How a run ends: the future the executor spins on.
+
+    While the node is being built (a large swarm takes seconds), a signal abandons the
+    building. Once the node runs, Python runs signal handlers between callbacks: completing
+    the future ends the spin there and then, even while timers that are always due keep the
+    executor busy, where a flag would never be looked at.
+    """
+
+    def __init__(self):
+        self.future = Future()
+        self.node_runs = False
+
+    def on_signal(self, *_):
+        if not self.node_runs:
+            raise _Interrupted()
+        self.complete()
+
+    def complete(self):
+        if not self.future.done():
+            self.future.set_result(None)

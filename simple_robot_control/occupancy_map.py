@@ -5,12 +5,18 @@ import os
 
 import numpy as np
 from PIL import Image
-from simple_robot_control.validation import is_finite_number
-from simple_robot_control.yaml_file import read_yaml
+from simple_robot_control.input_files import check_file, read_yaml
+from simple_robot_control.validation import Bounds, describe, is_finite_number
 
 OCCUPIED = 100
 FREE = 0
 UNKNOWN = -1
+
+# A map is held as several arrays of its cells (occupancy, clearance, masks): 16 M cells, such as
+# 4096 x 4096 or 200 m x 200 m at 5 cm, keep them within a few hundred megabytes.
+MAX_CELLS = 1 << 24
+MAX_IMAGE_BYTES = 256 << 20
+RESOLUTION = Bounds(0.001, 100.0)
 
 _DEFAULTS = {'mode': 'trinary', 'negate': 0, 'occupied_thresh': 0.65, 'free_thresh': 0.25}
 _REQUIRED = ('image', 'resolution', 'origin')
@@ -54,7 +60,8 @@ def load_map(yaml_path):
     yaml_path = os.fspath(yaml_path)
     description = read_yaml(yaml_path, 'map file', MapError)
     if not isinstance(description, dict):
-        raise MapError(f'{yaml_path}: expected a mapping of map fields, got {description!r}')
+        raise MapError(f'{yaml_path}: expected a mapping of map fields, got '
+                       f'{describe(description)}')
     fields = _validated_fields(yaml_path, description)
     image_path = fields['image']
     if not os.path.isabs(image_path):
@@ -89,22 +96,23 @@ def _validated_fields(yaml_path, description):
     unknown = sorted(set(description) - set(_REQUIRED) - set(_DEFAULTS))
     if unknown:
         allowed = ', '.join(_REQUIRED + tuple(_DEFAULTS))
-        raise MapError(f'{yaml_path}: unknown field {unknown[0]!r} (allowed: {allowed})')
+        raise MapError(f'{yaml_path}: unknown field {describe(unknown[0])} (allowed: {allowed})')
     missing = [key for key in _REQUIRED if key not in description]
     if missing:
         raise MapError(f'{yaml_path}: missing required field {missing[0]!r}')
     fields = dict(_DEFAULTS, **description)
     if not isinstance(fields['image'], str) or not fields['image']:
-        raise MapError(f'{yaml_path}: image must be a file name, got {fields["image"]!r}')
+        raise MapError(f'{yaml_path}: image must be a file name, got {describe(fields["image"])}')
     fields['resolution'] = _number(yaml_path, 'resolution', fields['resolution'])
-    if fields['resolution'] <= 0.0:
-        raise MapError(f'{yaml_path}: resolution must be positive, got {fields["resolution"]}')
+    problem = RESOLUTION.problem('resolution', fields['resolution'])
+    if problem is not None:
+        raise MapError(f'{yaml_path}: {problem} (metres per cell)')
     origin = fields['origin']
     if not isinstance(origin, list) or len(origin) != 3:
-        raise MapError(f'{yaml_path}: origin must be [x, y, yaw], got {origin!r}')
+        raise MapError(f'{yaml_path}: origin must be [x, y, yaw], got {describe(origin)}')
     fields['origin'] = tuple(_number(yaml_path, 'origin', value) for value in origin)
     if fields['negate'] not in (0, 1) or isinstance(fields['negate'], float):
-        raise MapError(f'{yaml_path}: negate must be 0 or 1, got {fields["negate"]!r}')
+        raise MapError(f'{yaml_path}: negate must be 0 or 1, got {describe(fields["negate"])}')
     for key in ('occupied_thresh', 'free_thresh'):
         fields[key] = _number(yaml_path, key, fields[key])
         if not 0.0 <= fields[key] <= 1.0:
@@ -114,25 +122,36 @@ def _validated_fields(yaml_path, description):
                        f'occupied_thresh {fields["occupied_thresh"]}')
     if fields['mode'] not in _MODES:
         raise MapError(f'{yaml_path}: mode must be one of {", ".join(_MODES)}, '
-                       f'got {fields["mode"]!r}')
+                       f'got {describe(fields["mode"])}')
     return fields
 
 
 def _number(yaml_path, key, value):
     if not is_finite_number(value):
-        raise MapError(f'{yaml_path}: {key} must be a finite number, got {value!r}')
+        raise MapError(f'{yaml_path}: {key} must be a finite number, got {describe(value)}')
     return float(value)
 
 
 def _read_image(image_path):
-    """Return grey levels averaged over the colour channels, and the alpha channel if any."""
+    """
+    Return grey levels averaged over the colour channels, and the alpha channel if any.
+
+    The image's size is read from its header and judged before any pixel is decoded, so a
+    compressed file that would unpack to gigabytes is refused in a moment.
+    """
+    check_file(image_path, 'map image', MapError, MAX_IMAGE_BYTES)
     try:
         with Image.open(image_path) as image:
+            width, height = image.size
+            if width * height > MAX_CELLS:
+                raise MapError(f'{image_path}: map image of {width}x{height} pixels is too large '
+                               f'(at most {MAX_CELLS:,} cells, e.g. 4096x4096)')
             image.load()
             has_alpha = image.mode in ('RGBA', 'LA', 'PA') or 'transparency' in image.info
             rgba = np.asarray(image.convert('RGBA'), dtype=float)
-    except FileNotFoundError:
-        raise MapError(f'{image_path}: map image not found') from None
+    except Image.DecompressionBombError:
+        raise MapError(f'{image_path}: map image is too large (at most {MAX_CELLS:,} cells, '
+                       'e.g. 4096x4096)') from None
     except (OSError, SyntaxError, ValueError) as error:
         raise MapError(f'{image_path}: cannot read map image: {error}') from None
     if rgba.shape[0] == 0 or rgba.shape[1] == 0:

@@ -9,6 +9,9 @@ from dataclasses import dataclass
 import math
 import re
 
+# A plain ASCII decimal: 12, -0.5, .5, 1e3. Python's float() also takes 5_0, non-ASCII digits,
+# 'inf' and 'nan', which no number typed or written for this package should be.
+_DECIMAL = re.compile(r'^[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?$', re.ASCII)
 # ROS 2 names (REP-144 / rcl's rules): a token starts with a letter and holds ASCII letters,
 # digits and underscores; no double underscore, no trailing underscore.
 _TOKEN = re.compile(r'^[A-Za-z][A-Za-z0-9_]*$')
@@ -19,6 +22,38 @@ def compact(value: object) -> str:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return repr(value)
     return f'{value:.12g}'
+
+
+def describe(value: object) -> str:
+    """
+    Name a value for an error message without echoing what may be a whole file.
+
+    Numbers and short one-line texts are shown; anything longer is described by its kind and
+    size, so a wrong file given as input never has its contents copied into a log.
+    """
+    if isinstance(value, bool) or value is None:
+        return repr(value)
+    if isinstance(value, (int, float)):
+        return compact(value)
+    if isinstance(value, str):
+        if len(value) <= 24 and value.isprintable():
+            return repr(value)
+        return f'a text of {len(value)} characters'
+    if isinstance(value, dict):
+        return f'a mapping of {len(value)} keys'
+    if isinstance(value, (list, tuple)):
+        if len(value) <= 6 and not any(isinstance(item, (dict, list, tuple)) for item in value):
+            return '[' + ', '.join(describe(item) for item in value) + ']'
+        return f'a list of {len(value)} items'
+    return f'a {type(value).__name__}'
+
+
+def parse_decimal(text: str) -> float | None:
+    """Return the finite number a plain ASCII decimal stands for, or None if it is not one."""
+    if not _DECIMAL.match(text):
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None
 
 
 def is_finite_number(value: object) -> bool:
@@ -67,9 +102,10 @@ class Bounds:
         """Return 'NAME must be ..., got VALUE', or None when value lies within."""
         if self.contains(value):
             return None
-        return f'{name} must be {self.text()}, got {compact(value)}'
+        return f'{name} must be {self.text()}, got {describe(value)}'
 
 
+FINITE = Bounds()
 POSITIVE = Bounds(0.0, None, low_open=True)
 NON_NEGATIVE = Bounds(0.0)
 
@@ -91,4 +127,4 @@ def is_ros_name(name: object) -> bool:
 
 def ros_name_problem(name: object, what: str) -> str | None:
     """Return 'WHAT must be a ROS name ..., got NAME', or None if name is one."""
-    return None if is_ros_name(name) else f'{what} must be {ROS_NAME_RULE}, got {name!r}'
+    return None if is_ros_name(name) else f'{what} must be {ROS_NAME_RULE}, got {describe(name)}'

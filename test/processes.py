@@ -1,16 +1,35 @@
-"""Running the installed executables as a user would."""
+"""Running the installed executables as a user would, wherever they were installed."""
 
 import os
 from pathlib import Path
 import signal
 import subprocess
 import sys
+import time
 
-BIN = Path(sys.executable).parent
+PACKAGE = 'simple_robot_control'
 
 
 def executable(name):
-    return str(BIN / name)
+    """
+    Return the path of an installed executable.
+
+    First where `ros2 run` looks (lib/<package>/ of the prefix the ament index gives: a colcon
+    install tree or a ROS installation), then where pip puts it: lib/<package>/ of the
+    environment for an editable install, beside the interpreter for a plain one.
+    """
+    candidates = []
+    try:
+        from ament_index_python.packages import get_package_prefix
+        candidates.append(Path(get_package_prefix(PACKAGE)) / 'lib' / PACKAGE / name)
+    except (ImportError, LookupError, OSError, ValueError):
+        pass
+    candidates += [Path(sys.prefix) / 'lib' / PACKAGE / name, Path(sys.executable).parent / name]
+    for path in candidates:
+        if os.access(path, os.X_OK) and path.is_file():
+            return str(path)
+    looked = ', '.join(map(str, candidates))
+    raise FileNotFoundError(f'{name} is not installed (looked in {looked})')
 
 
 def start(name, *args, **popen_options):
@@ -25,8 +44,37 @@ def run(name, *args, stdin_text=None, timeout=60):
                           text=True, timeout=timeout, env=dict(os.environ))
 
 
-def interrupt(process, timeout=15):
-    """Stop a process with Ctrl-C and return (exit code, stdout, stderr)."""
-    process.send_signal(signal.SIGINT)
+def interrupt(process, timeout=15, signal_number=signal.SIGINT):
+    """Stop a process with Ctrl-C (or another signal); return (exit code, stdout, stderr)."""
+    process.send_signal(signal_number)
     stdout, stderr = process.communicate(timeout=timeout)
     return process.returncode, stdout, stderr
+
+
+def start_logged(name, *args, log, **popen_options):
+    """Start an installed executable writing stdout and stderr to the file log."""
+    with open(log, 'w') as stream:
+        return subprocess.Popen([executable(name), *args], stdout=stream,
+                                stderr=subprocess.STDOUT, text=True, env=dict(os.environ),
+                                **popen_options)
+
+
+def wait_for_text(log, text, process=None, timeout=20.0):
+    """Wait until the file log holds text; fail if process ends first or time runs out."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        content = Path(log).read_text()
+        if text in content:
+            return content
+        assert process is None or process.poll() is None, (
+            f'{process.args[0]} ended ({process.returncode}) before saying {text!r}:\n{content}')
+        time.sleep(0.05)
+    raise AssertionError(f'no {text!r} within {timeout} s in:\n{Path(log).read_text()}')
+
+
+def stop(process, signal_number, timeout=10.0):
+    """Send a signal and return (exit code, seconds until the process ended)."""
+    sent = time.monotonic()
+    process.send_signal(signal_number)
+    process.wait(timeout=timeout)
+    return process.returncode, time.monotonic() - sent

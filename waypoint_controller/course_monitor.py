@@ -16,8 +16,9 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
+from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
-                                               EXIT_FAILED, EXIT_OK, ParameterSpec, run)
+                                               ParameterSpec, run)
 from simple_robot_control.pose import pose_from_message
 from std_msgs.msg import String
 from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC

@@ -140,10 +140,14 @@ def main(argv=None):
     try:
         if not (math.isfinite(args.robot_radius) and args.robot_radius > 0.0):
             raise ValueError(f'--robot-radius must be a positive number, got {args.robot_radius}')
-        render_run(load_run(args.record), load_map(args.map), args.robot_radius, output)
+        record = load_run(args.record)
+        render_run(record, load_map(args.map), args.robot_radius, output)
     except (RunRecordError, MapError, ValueError, OSError) as error:
         print(f'plot_run: error: {error}', file=sys.stderr)
         return 2
+    if record.cut_short_line is not None:
+        print(f'plot_run: {args.record}:{record.cut_short_line}: the last line was cut short '
+              '(an interrupted run); drew the run up to the line before it', file=sys.stderr)
     print(f'wrote {output}')
     return 0
 

@@ -13,7 +13,8 @@ import json
 import math
 import os
 
-from simple_robot_control.validation import is_finite_number
+from simple_robot_control.input_files import read_text
+from simple_robot_control.validation import describe, is_finite_number
 from waypoint_controller.status import FINISHED, parse_status, STARTED, WAYPOINT
 from waypoint_controller.waypoints import Waypoint
 
@@ -21,6 +22,7 @@ from waypoint_controller.waypoints import Waypoint
 # robot_status prints x and y to 1 mm and theta to 0.01 degree; a pose matches within rounding.
 POSITION_ROUNDING = 0.0006
 HEADING_ROUNDING = math.radians(0.006)
+MAX_RECORD_BYTES = 1 << 30
 RECENT_POSES = 2000
 
 
@@ -87,6 +89,7 @@ class RunRecord:
     times: list = field(default_factory=list)
     poses: list = field(default_factory=list)
     statuses: list = field(default_factory=list)
+    cut_short_line: int | None = None
 
     @property
     def result(self):
@@ -131,18 +134,22 @@ class RunRecordWriter:
         self._stream.write(json.dumps(entry) + '\n')
 
 
-def load_run(path):
-    """Read a record written by RunRecordWriter; RunRecordError names what is wrong."""
+def load_run(path: str | os.PathLike) -> RunRecord:
+    """
+    Read a record written by RunRecordWriter; RunRecordError names what is wrong.
+
+    A run that was interrupted may leave its last line half written: that line is left out,
+    and cut_short_line says which it was.
+    """
     path = os.fspath(path)
-    try:
-        with open(path, encoding='utf-8') as stream:
-            lines = stream.read().splitlines()
-    except OSError as error:
-        raise RunRecordError(f'{path}: cannot read run record: {error.strerror}') from None
-    except UnicodeDecodeError as error:
-        raise RunRecordError(f'{path}: not a text file ({error.reason})') from None
+    text = read_text(path, 'run record', RunRecordError, MAX_RECORD_BYTES)
+    lines = text.splitlines()
     if not lines:
         raise RunRecordError(f'{path}: empty run record')
+    cut_short = None
+    if not text.endswith('\n') and len(lines) > 1 and not _is_json(lines[-1]):
+        cut_short = len(lines)
+        lines.pop()
     header = _entry(path, 1, lines[0])
     try:
         record = RunRecord(
@@ -152,6 +159,7 @@ def load_run(path):
             angle_tolerance=_finite(path, 1, [header['angle_tolerance']], 1)[0])
     except (KeyError, TypeError) as error:
         raise RunRecordError(f'{path}:1: not a run header ({error!r} missing or wrong)') from None
+    record.cut_short_line = cut_short
     for number, line in enumerate(lines[1:], start=2):
         if not line.strip():
             continue
@@ -163,17 +171,25 @@ def load_run(path):
         elif isinstance(entry.get('status'), str) and entry['status'].strip():
             record.statuses.append((time, entry['status']))
         else:
-            raise RunRecordError(f'{path}:{number}: neither a pose nor a status: {line!r}')
+            raise RunRecordError(f'{path}:{number}: neither a pose nor a status')
     return record
+
+
+def _is_json(line):
+    try:
+        json.loads(line)
+    except json.JSONDecodeError:
+        return False
+    return True
 
 
 def _entry(path, number, line):
     try:
         entry = json.loads(line)
     except json.JSONDecodeError as error:
-        raise RunRecordError(f'{path}:{number}: not JSON ({error.msg}): {line!r}') from None
+        raise RunRecordError(f'{path}:{number}: not JSON ({error.msg})') from None
     if not isinstance(entry, dict):
-        raise RunRecordError(f'{path}:{number}: not a JSON object: {line!r}')
+        raise RunRecordError(f'{path}:{number}: not a JSON object')
     return entry
 
 
@@ -182,5 +198,5 @@ def _finite(path, number, values, count):
     if not isinstance(values, list) or len(values) != count or not all(
             map(is_finite_number, values)):
         raise RunRecordError(f'{path}:{number}: expected {count} finite number'
-                             f'{"s" if count > 1 else ""}, got {values!r}')
+                             f'{"s" if count > 1 else ""}, got {describe(values)}')
     return [float(value) for value in values]

@@ -3,6 +3,7 @@
 import dataclasses
 import math
 import sys
+import time
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -11,9 +12,10 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
+from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
+from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME, other_publishers
 from simple_robot_control.node_runtime import (accept_tuning, build_parser, ConfigError,
-                                               declare_parameters, EXIT_FAILED, EXIT_OK,
-                                               ParameterSpec, run)
+                                               declare_parameters, ParameterSpec, run)
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from std_msgs.msg import String
@@ -23,6 +25,17 @@ from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course
 from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.stall import StallDetector
 from waypoint_controller.status import aborted, finished, started, waypoint_reached
+
+# Wall-clock seconds. Odometry is held this long after start, which covers discovery most of
+# the time, to see who else commands the robot; the controller stays ready to yield for the
+# whole discovery time. Silence this long is worth a warning. At the end of a run, readers get
+# as long as discovery may take; when interrupted, a moment.
+FIRST_ANSWER_AFTER = 1.5
+NEWCOMER_FOR = DISCOVERY_TIME
+WATCH_PERIOD = 0.5
+ODOMETRY_SILENCE = 3.0
+EXIT_WAIT = DISCOVERY_TIME
+INTERRUPTED_WAIT = 0.3
 
 SPEED = Bounds(0.0, 10.0, low_open=True)
 GAIN = Bounds(0.0, 1000.0)
@@ -88,15 +101,45 @@ class WaypointController(Node):
         self._stamp = None
         self._answered = None
         self._command = Twist()
+        self._started_at = self._odometry_at = time.monotonic()
+        self._held = None
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
                                                        status_qos(len(waypoints)))
         robot = params['robot_name']
         self._cmd_publisher = self.create_publisher(Twist, f'{robot}/cmd_vel', 10)
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
                                                     self._on_odometry, 10).topic_name
-        self._odometry_watch = self.create_timer(
-            5.0, self._warn_while_waiting, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self.create_timer(WATCH_PERIOD, self._watch_odometry, clock=steady)
+        self._discovery = self.create_timer(FIRST_ANSWER_AFTER, self._end_grace, clock=steady)
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
+
+    def _end_grace(self):
+        """Discovery has had its grace: check that no one else commands the robot, then go."""
+        self.destroy_timer(self._discovery)
+        self._discovery = None
+        self._check_alone()
+        if self._held is not None and not self.finished.done():
+            self._on_odometry(self._held)
+            self._held = None
+
+    def _check_alone(self):
+        """
+        Refuse to drive a robot that another node already commands.
+
+        Odometry is held at start (FIRST_ANSWER_AFTER), so that a controller, a move_robot or a
+        teleop already publishing on the same cmd_vel is usually seen before the first answer;
+        the check is repeated while the controller is a newcomer (NEWCOMER_FOR), in case
+        discovery was slow. Only the newcomer refuses: a controller past that keeps its robot.
+        """
+        others = other_publishers(self, self._cmd_publisher.topic_name)
+        if not others or self.finished.done():
+            return
+        self._command = Twist()
+        self._cmd_publisher.publish(self._command)
+        self.finished.set_exception(ConfigError(
+            f'{", ".join(others)} already publishes on {self._cmd_publisher.topic_name}: '
+            'one robot takes commands from one node; stop it or give robot_name'))
 
     def _on_tuning(self, changes):
         """Keep tuned values for the next control tick, where they take effect together."""
@@ -114,7 +157,14 @@ class WaypointController(Node):
         """
         if self.finished.done():
             return
+        self._odometry_at = time.monotonic()
+        if self._discovery is not None:
+            self._held = message
+            return
         stamp = Time.from_msg(message.header.stamp).nanoseconds
+        if self._stamp is not None and stamp < self._stamp:
+            self._time_went_back(stamp, pose_from_message(message.pose.pose))
+            return
         if stamp != self._stamp:
             self._stamp = stamp
             self._control_step(pose_from_message(message.pose.pose), stamp)
@@ -143,7 +193,7 @@ class WaypointController(Node):
             self.get_logger().error(
                 f'waypoint {number} ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg) '
                 f'unreachable: no progress for {self._stall.timeout:g} s, still '
-                f'{distance:.2f} m away')
+                f'{distance:.3g} m away')
             self._report(aborted(number, pose))
             self._stop(EXIT_FAILED)
             return
@@ -156,12 +206,22 @@ class WaypointController(Node):
             self._command = Twist()
             self._command.linear.x, self._command.angular.z = step.linear, step.angular
 
-    def _warn_while_waiting(self):
-        if self._pose is None:
-            self.get_logger().warn(f'waiting for odometry on {self._odom_topic}: is stdr_lite '
-                                   'running?')
-        else:
-            self._odometry_watch.cancel()
+    def _time_went_back(self, stamp, pose):
+        """Stop at once after a simulator restart, rather than act on a world that is gone."""
+        self.get_logger().error(
+            f'odometry time on {self._odom_topic} went back from {self._stamp * 1e-9:.3f} s to '
+            f'{stamp * 1e-9:.3f} s: the simulator restarted; stopping the robot')
+        self._report(aborted(self._follower.next_index + 1, pose))
+        self._stop(EXIT_FAILED)
+        self._cmd_publisher.publish(self._command)
+
+    def _watch_odometry(self):
+        if self._discovery is None and time.monotonic() - self._started_at < NEWCOMER_FOR:
+            self._check_alone()
+        silence = time.monotonic() - self._odometry_at
+        if not self.finished.done() and silence >= ODOMETRY_SILENCE:
+            self.get_logger().warn(f'no odometry on {self._odom_topic} for {silence:.0f} s: is '
+                                   'stdr_lite running?', throttle_duration_sec=5.0)
 
     def _report(self, text):
         self.get_logger().info(text)
@@ -173,10 +233,22 @@ class WaypointController(Node):
             self.finished.set_result(exit_code)
 
     def shut_down(self):
-        """Stop the robot and give late robot_status subscribers a moment to catch up."""
+        """
+        Stop the robot, then let every robot_status reader receive the whole run.
+
+        A run that ended by itself waits (EXIT_WAIT at most) for readers still being
+        discovered; an interrupted one only flushes what is matched, to exit promptly.
+        """
+        ended = self.finished.done()
         self._stop(EXIT_OK)
+        # Fast DDS sends from a thread of its own: wait until the simulator has the stop, or
+        # the process would end with the command still queued.
         self._cmd_publisher.publish(self._command)
-        self._status_publisher.wait_for_all_acked(Duration(seconds=1.0))
+        self._cmd_publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
+        if ended:
+            deliver_before_exit(self._status_publisher, self._started_at, EXIT_WAIT)
+        else:
+            self._status_publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
 
 
 def main(argv=None):

@@ -4,6 +4,9 @@ from dataclasses import dataclass
 import math
 import os
 
+from simple_robot_control.input_files import read_text
+from simple_robot_control.validation import describe, parse_decimal
+
 
 class WaypointFileError(ValueError):
     """A waypoint file that cannot be used; the message is one line naming file, line, token."""
@@ -18,26 +21,24 @@ class Waypoint:
     theta: float
 
 
-def parse_waypoints(text, source='<string>'):
+def parse_waypoints(text: str, source: str = '<string>') -> list[Waypoint]:
     """
     Parse waypoint text into a list of Waypoints.
 
     Any line breaks are allowed (one waypoint per line, or all on one line); blank lines and
-    '#' comments are skipped. Raises WaypointFileError for an empty course, a count that is not
-    a multiple of three, a token that is not a number, or NaN/infinity.
+    '#' comments are skipped. Numbers are plain ASCII decimals (12, -0.5, 1e3): Python would
+    also take 5_0, non-ASCII digits, inf and nan, which a course file should never hold.
+    Raises WaypointFileError for an empty course, a count that is not a multiple of three,
+    or a token that is not such a number.
     """
     numbers = []
     last_line = 0
     for line_number, line in enumerate(text.splitlines(), start=1):
         for token in line.split('#', 1)[0].split():
-            try:
-                value = float(token)
-            except ValueError:
-                raise WaypointFileError(
-                    f'{source}:{line_number}: {token!r} is not a number') from None
-            if not math.isfinite(value):
-                raise WaypointFileError(
-                    f'{source}:{line_number}: {token!r} is not a finite number') from None
+            value = parse_decimal(token)
+            if value is None:
+                raise WaypointFileError(f'{source}:{line_number}: {describe(token)} is not a '
+                                        'number (write plain decimals such as 2, -0.5 or 1e3)')
             numbers.append(value)
             last_line = line_number
     if not numbers:
@@ -50,14 +51,7 @@ def parse_waypoints(text, source='<string>'):
             for x, y, theta in zip(numbers[0::3], numbers[1::3], numbers[2::3])]
 
 
-def load_waypoints(path):
+def load_waypoints(path: str | os.PathLike) -> list[Waypoint]:
     """Read and parse a waypoint file."""
     path = os.fspath(path)
-    try:
-        with open(path, encoding='utf-8') as stream:
-            text = stream.read()
-    except OSError as error:
-        raise WaypointFileError(f'{path}: cannot read waypoint file: {error.strerror}') from None
-    except UnicodeDecodeError as error:
-        raise WaypointFileError(f'{path}: not a text file ({error.reason})') from None
-    return parse_waypoints(text, path)
+    return parse_waypoints(read_text(path, 'waypoint file', WaypointFileError), path)

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
 
 MOTION_MARGIN = 0.1
+CELLS_PER_BATCH = 1 << 22
 
 
 class FootprintChecker:
@@ -91,10 +92,13 @@ class FootprintChecker:
         result = ~inside
         candidates = np.flatnonzero(inside)
         candidates = candidates[self._near_obstacle[rows[candidates], cols[candidates]]]
-        if candidates.size:
-            result[candidates] = self._touches_exactly(
-                map_x[candidates], map_y[candidates], rows[candidates], cols[candidates],
-                radius[candidates])
+        # The exact test weighs every cell of a window around each point: points go in
+        # batches, so memory stays bounded however many points and however large the window.
+        batch = max(1, CELLS_PER_BATCH // self._window_rows.size)
+        for start in range(0, candidates.size, batch):
+            chosen = candidates[start:start + batch]
+            result[chosen] = self._touches_exactly(map_x[chosen], map_y[chosen], rows[chosen],
+                                                   cols[chosen], radius[chosen])
         return result.reshape(shape)
 
     def _touches_exactly(self, map_x, map_y, rows, cols, radius):

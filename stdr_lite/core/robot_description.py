@@ -10,10 +10,29 @@ angles radians, frequencies hertz.
 """
 
 from dataclasses import dataclass
+import math
 import os
 
-from simple_robot_control.validation import is_finite_number, is_ros_name, ROS_NAME_RULE
-from simple_robot_control.yaml_file import read_yaml
+from simple_robot_control.input_files import read_yaml
+from simple_robot_control.validation import (Bounds, compact, describe, FINITE, is_finite_number,
+                                             is_ros_name, ROS_NAME_RULE)
+
+
+# What a description may hold: generous for any small robot, finite everywhere, so a typo such
+# as a frequency of 1e12 is refused where it is read rather than failing in a later step.
+MAX_RADIUS = 5.0
+RADIUS = Bounds(0.0, MAX_RADIUS, low_open=True)
+MOUNT_OFFSET = Bounds(-10.0, 10.0)
+HEADING = Bounds(-2.0 * math.pi, 2.0 * math.pi)
+POSITION = Bounds(-1e6, 1e6)
+LASER_ANGLE = Bounds(-math.pi, math.pi)
+CONE_ANGLE = Bounds(0.0, math.pi, low_open=True)
+MIN_RANGE = Bounds(0.0, 1000.0)
+MAX_RANGE = Bounds(0.0, 1000.0, low_open=True)
+RAYS = Bounds(1, 10000)
+FREQUENCY = Bounds(0.001, 1000.0)
+NOISE_MEAN = Bounds(-1.0, 1.0)
+NOISE_STD = Bounds(0.0, 1.0)
 
 
 class RobotFileError(ValueError):
@@ -76,29 +95,31 @@ def parse_robot(data: object, source: str = '<robot>') -> 'RobotDescription':
     footprint = reader.mapping(data.get('footprint', {}), 'footprint')
     if footprint.get('points'):
         reader.fail('footprint.points', 'polygon footprints are not supported; give a radius')
-    radius = reader.number(footprint, 'radius', 'footprint', positive=True)
+    radius = reader.number(footprint, 'radius', 'footprint', RADIUS)
     sensors = reader.mapping(data.get('sensors', {}) or {}, 'sensors')
     lasers = tuple(_laser(reader, item, f'sensors.lasers[{index}]')
                    for index, item in enumerate(reader.sequence(sensors, 'lasers', 'sensors')))
     sonars = tuple(_sonar(reader, item, f'sensors.sonars[{index}]')
                    for index, item in enumerate(reader.sequence(sensors, 'sonars', 'sensors')))
-    return RobotDescription(radius, reader.pose(data, 'initial_pose', ''), lasers, sonars)
+    return RobotDescription(radius, reader.pose(data, 'initial_pose', '', POSITION), lasers,
+                            sonars)
 
 
 def _laser(reader, item, where):
     item = reader.mapping(item, where)
     spec = LaserSpec(
         frame_id=reader.name(item, 'frame_id', where),
-        pose=reader.pose(item, 'pose', where),
-        min_angle=reader.number(item, 'min_angle', where),
-        max_angle=reader.number(item, 'max_angle', where),
-        min_range=reader.number(item, 'min_range', where, non_negative=True),
-        max_range=reader.number(item, 'max_range', where, positive=True),
-        num_rays=reader.count(item, 'num_rays', where),
-        frequency=reader.number(item, 'frequency', where, positive=True),
+        pose=reader.pose(item, 'pose', where, MOUNT_OFFSET),
+        min_angle=reader.number(item, 'min_angle', where, LASER_ANGLE),
+        max_angle=reader.number(item, 'max_angle', where, LASER_ANGLE),
+        min_range=reader.number(item, 'min_range', where, MIN_RANGE),
+        max_range=reader.number(item, 'max_range', where, MAX_RANGE),
+        num_rays=reader.count(item, 'num_rays', where, RAYS),
+        frequency=reader.number(item, 'frequency', where, FREQUENCY),
         noise=reader.noise(item, where))
     if spec.max_angle < spec.min_angle:
-        reader.fail(f'{where}.max_angle', f'{spec.max_angle} is below min_angle {spec.min_angle}')
+        reader.fail(f'{where}.max_angle', f'{compact(spec.max_angle)} is below min_angle '
+                    f'{compact(spec.min_angle)}')
     reader.check_ranges(spec, where)
     return spec
 
@@ -107,11 +128,11 @@ def _sonar(reader, item, where):
     item = reader.mapping(item, where)
     spec = SonarSpec(
         frame_id=reader.name(item, 'frame_id', where),
-        pose=reader.pose(item, 'pose', where),
-        cone_angle=reader.number(item, 'cone_angle', where, positive=True),
-        min_range=reader.number(item, 'min_range', where, non_negative=True),
-        max_range=reader.number(item, 'max_range', where, positive=True),
-        frequency=reader.number(item, 'frequency', where, positive=True),
+        pose=reader.pose(item, 'pose', where, MOUNT_OFFSET),
+        cone_angle=reader.number(item, 'cone_angle', where, CONE_ANGLE),
+        min_range=reader.number(item, 'min_range', where, MIN_RANGE),
+        max_range=reader.number(item, 'max_range', where, MAX_RANGE),
+        frequency=reader.number(item, 'frequency', where, FREQUENCY),
         noise=reader.noise(item, where))
     reader.check_ranges(spec, where)
     return spec
@@ -128,54 +149,54 @@ class _Reader:
 
     def mapping(self, value, key):
         if not isinstance(value, dict):
-            self.fail(key or 'top level', f'expected a mapping, got {value!r}')
+            self.fail(key or 'top level', f'expected a mapping, got {describe(value)}')
         return value
 
     def sequence(self, data, key, where):
         value = data.get(key) or []
         if not isinstance(value, list):
-            self.fail(f'{where}.{key}', f'expected a list, got {value!r}')
+            self.fail(f'{where}.{key}', f'expected a list, got {describe(value)}')
         return value
 
-    def number(self, data, key, where, positive=False, non_negative=False):
+    def number(self, data, key, where, bounds=FINITE):
         name = f'{where}.{key}' if where else key
         if key not in data:
             self.fail(name, 'missing')
         value = data[key]
         if not is_finite_number(value):
-            self.fail(name, f'expected a finite number, got {value!r}')
-        if positive and value <= 0:
-            self.fail(name, f'must be positive, got {value}')
-        if non_negative and value < 0:
-            self.fail(name, f'must not be negative, got {value}')
+            self.fail(name, f'expected a finite number, got {describe(value)}')
+        if not bounds.contains(value):
+            self.fail(name, f'must be {bounds.text()}, got {compact(value)}')
         return float(value)
 
-    def count(self, data, key, where):
-        value = self.number(data, key, where, positive=True)
+    def count(self, data, key, where, bounds):
+        value = self.number(data, key, where, bounds)
         if value != int(value):
-            self.fail(f'{where}.{key}', f'expected a whole number, got {data[key]!r}')
+            self.fail(f'{where}.{key}', f'expected a whole number, got {compact(value)}')
         return int(value)
 
     def name(self, data, key, where, default=None):
         value = data.get(key, default)
         if not is_ros_name(value):
-            self.fail(f'{where}.{key}', f'expected {ROS_NAME_RULE}, got {value!r}')
+            self.fail(f'{where}.{key}', f'expected {ROS_NAME_RULE}, got {describe(value)}')
         return value
 
-    def pose(self, data, key, where):
+    def pose(self, data, key, where, position_bounds):
         name = f'{where}.{key}' if where else key
         pose = self.mapping(data.get(key, {'x': 0, 'y': 0, 'theta': 0}), name)
-        return tuple(self.number(pose, axis, name) for axis in ('x', 'y', 'theta'))
+        return (self.number(pose, 'x', name, position_bounds),
+                self.number(pose, 'y', name, position_bounds),
+                self.number(pose, 'theta', name, HEADING))
 
     def noise(self, data, where):
         noise = self.mapping(data.get('noise') or {'mean': 0, 'std': 0}, f'{where}.noise')
-        return Noise(self.number(noise, 'mean', f'{where}.noise'),
-                     self.number(noise, 'std', f'{where}.noise', non_negative=True))
+        return Noise(self.number(noise, 'mean', f'{where}.noise', NOISE_MEAN),
+                     self.number(noise, 'std', f'{where}.noise', NOISE_STD))
 
     def check_ranges(self, spec, where):
         if spec.max_range <= spec.min_range:
-            self.fail(f'{where}.max_range',
-                      f'{spec.max_range} must exceed min_range {spec.min_range}')
+            self.fail(f'{where}.max_range', f'{compact(spec.max_range)} must exceed min_range '
+                      f'{compact(spec.min_range)}')
 
 
 @dataclass(frozen=True)
@@ -225,9 +246,13 @@ def robot_entry(item: object, default_name: str, default_description: RobotDescr
     if 'description' in item:
         if not isinstance(item['description'], str):
             reader.fail(f'{where}.description', f'expected a file name, got '
-                        f'{item["description"]!r}')
+                        f'{describe(item["description"])}')
         description = load_robot(os.path.join(folder, item['description']))
     pose = item.get('pose', list(description.initial_pose))
     if not isinstance(pose, list) or len(pose) != 3 or not all(map(is_finite_number, pose)):
-        reader.fail(f'{where}.pose', f'expected [x, y, theta] as finite numbers, got {pose!r}')
+        reader.fail(f'{where}.pose', f'expected [x, y, theta] as finite numbers, got '
+                    f'{describe(pose)}')
+    for axis, value, bounds in zip(('x', 'y', 'theta'), pose, (POSITION, POSITION, HEADING)):
+        if not bounds.contains(value):
+            reader.fail(f'{where}.pose', f'{axis} must be {bounds.text()}, got {compact(value)}')
     return RobotEntry(name, description, tuple(float(value) for value in pose))

@@ -19,6 +19,7 @@ from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 GRAZING_STRIDES = 4
 SONAR_RAYS = 9
+MARCH_POINTS_PER_BATCH = 1 << 22
 
 
 class RangeFinder:
@@ -30,6 +31,7 @@ class RangeFinder:
         self._origin = (origin_x, origin_y)
         self._cos_yaw, self._sin_yaw = math.cos(yaw), math.sin(yaw)
         self._height, self._width = occupancy_map.occupied.shape
+        self._diagonal = float(np.hypot(*occupancy_map.extent))
         # Centre-to-centre distance to the nearest occupied cell, less one cell diagonal:
         # no point of this cell is closer than that to any point of an occupied cell.
         cells = distance_transform_edt(~occupancy_map.occupied)
@@ -94,15 +96,23 @@ class RangeFinder:
         same fixed overhead however few rays remain. Whether a ray grazes depends on its own
         strides only, so a reading never depends on which other rays were cast with it.
         """
-        offsets = np.arange(0.0, float(np.max(max_range - start)) + self.resolution,
-                            0.5 * self.resolution)
-        along = start[:, None] + offsets[None, :]
-        blocked = self._clearance_along(column[:, None], row[:, None], column_rate[:, None],
-                                        row_rate[:, None], along) < 0.0
-        blocked &= along <= max_range[:, None] + 0.5 * self.resolution
-        first = np.argmax(blocked, axis=1)
-        return np.where(blocked[np.arange(column.size), first],
-                        along[np.arange(column.size), first], np.inf)
+        # No ray stays on the map for longer than its diagonal, and rays go in batches, so
+        # memory stays bounded whatever the ranges and the number of grazing rays.
+        reach = min(float(np.max(max_range - start)), self._diagonal)
+        offsets = np.arange(0.0, reach + self.resolution, 0.5 * self.resolution)
+        result = np.empty(column.size)
+        batch = max(1, MARCH_POINTS_PER_BATCH // offsets.size)
+        for first in range(0, column.size, batch):
+            rays = slice(first, first + batch)
+            along = start[rays, None] + offsets[None, :]
+            blocked = self._clearance_along(column[rays, None], row[rays, None],
+                                            column_rate[rays, None], row_rate[rays, None],
+                                            along) < 0.0
+            blocked &= along <= max_range[rays, None] + 0.5 * self.resolution
+            hit = np.argmax(blocked, axis=1)
+            chosen = np.arange(hit.size)
+            result[rays] = np.where(blocked[chosen, hit], along[chosen, hit], np.inf)
+        return result
 
     def _clearance_along(self, column, row, column_rate, row_rate, distance):
         """Clearance of the cells distance along rays; -1 in occupied cells and off the map."""

@@ -15,7 +15,7 @@ from typing import Iterable
 
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
-from simple_robot_control.validation import ros_name_problem
+from simple_robot_control.validation import compact, ros_name_problem
 from stdr_lite.core.commands import CommandBuffer
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.sensors import RangeFinder, read_sensors
@@ -157,6 +157,11 @@ class Simulation:
             raise RequestError(problem)
         if entry.name in self._indices:
             raise RequestError(f'a robot named {entry.name} exists already')
+        for spec in entry.description.lasers + entry.description.sonars:
+            if spec.frequency > self.settings.rate_hz:
+                raise RequestError(f'sensor {spec.frame_id} reads at {compact(spec.frequency)} '
+                                   f'Hz, faster than the simulation steps (rate_hz '
+                                   f'{compact(self.settings.rate_hz)})')
         with self._naming_overlaps():
             self.world.add_robot(entry.pose, entry.description.radius)
         self._commands.add_robot()

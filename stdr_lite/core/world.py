@@ -12,6 +12,7 @@ from stdr_lite.core.kinematics import INTEGRATORS
 # Sampling the path at a quarter cell bounds the depth by which a footprint could clip a
 # corner between two samples to spacing**2 / (8 * radius): 0.1 mm for the defaults.
 SAMPLES_PER_CELL = 4
+PATH_POINTS_PER_BATCH = 1 << 16
 
 
 class PlacementError(ValueError):
@@ -147,10 +148,17 @@ class World:
         if suspect.size == 0:
             return blocked
         samples = max(1, math.ceil(float(np.max(step_length[suspect])) / self._sample_spacing))
-        fractions = np.arange(1, samples + 1) / samples
-        index = suspect[:, None]
-        path_x, path_y, _ = self._advance(x[index], y[index], theta[index], linear[index],
-                                          angular[index], dt * fractions[None, :])
-        touching = self.checker.touches(path_x, path_y, self.radii[index])
-        blocked[suspect] = np.any(touching, axis=1)
+        # The path is checked from its start in batches of points, so memory stays bounded
+        # whatever the speed; a robot is dropped from later batches once it is blocked.
+        first = 1
+        while suspect.size and first <= samples:
+            count = max(1, PATH_POINTS_PER_BATCH // suspect.size)
+            fractions = np.arange(first, min(first + count, samples + 1)) / samples
+            index = suspect[:, None]
+            path_x, path_y, _ = self._advance(x[index], y[index], theta[index], linear[index],
+                                              angular[index], dt * fractions[None, :])
+            hit = np.any(self.checker.touches(path_x, path_y, self.radii[index]), axis=1)
+            blocked[suspect[hit]] = True
+            suspect = suspect[~hit]
+            first += count
         return blocked

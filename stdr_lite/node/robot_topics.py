@@ -29,6 +29,7 @@ class RobotTopics:
                                      functools.partial(on_command, name), 10),
             node.create_subscription(PoseWithCovarianceStamped, f'{name}/initialpose',
                                      functools.partial(on_initial_pose, name), 10)]
+        self.cmd_vel_topic = self._subscriptions[0].topic_name
         self._sensors = {}
         for sensor in robot.sensors:
             message = sensor_message(name, sensor.spec)

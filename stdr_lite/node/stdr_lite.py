@@ -17,6 +17,7 @@ from std_msgs.msg import String
 from stdr_lite.core.robot_description import robot_entry, RobotFileError
 from stdr_lite.core.simulation import CommandOutcome, RequestError
 from stdr_lite.core.world import PlacementError
+from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS
 from stdr_lite.node.robot_topics import RobotTopics
@@ -70,13 +71,16 @@ class StdrLite(Node):
             period = self.simulation.dt / params['real_time_factor'] if paced else 0.0
             self.create_timer(period, self._on_tick, clock=steady)
         self._step_on_answer = self._lockstep and not paced
+        # In lockstep the controller sets the pace by design: only free-running can lag.
+        HealthWatch(self, self.simulation, self._topics,
+                    0.0 if self._lockstep else params['real_time_factor'])
         if self._lockstep:
             self.create_timer(0.05, self._repeat_unanswered_state, clock=steady)
             self._publish_state()
             self._await_answers()
-        poses = {name: tuple(round(value, 3) for value in self.simulation.pose(name))
-                 for name in self.simulation.names}
-        robots = ', '.join(f'{name} at {pose}' for name, pose in poses.items())
+        names = self.simulation.names
+        robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in self.simulation.pose(name))}'
+                            for name in names) if len(names) <= 5 else f'{len(names)} robots')
         self.get_logger().info(
             f'{self.simulation.occupancy_map.source} {self.simulation.occupancy_map.width}x'
             f'{self.simulation.occupancy_map.height} cells, {robots}, {params["rate_hz"]:g} Hz '

@@ -2,6 +2,8 @@
 
 import math
 
+from simple_robot_control.validation import describe, parse_decimal
+
 
 class EndOfInput(Exception):
     """The user closed standard input (Ctrl-D or the end of a piped file)."""
@@ -24,12 +26,9 @@ def ask_number(prompt, read_line, write, minimum=None):
         if answer is None:
             raise EndOfInput()
         text = answer.strip()
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            write(f'Not a finite number: {text!r}. Please try again.\n')
+        value = parse_decimal(text)
+        if value is None:
+            write(f'Not a finite number: {describe(text)}. Please try again.\n')
         elif minimum is not None and value < minimum:
             write(f'Must be at least {minimum:g}, got {text}. Please try again.\n')
         else:

@@ -7,14 +7,18 @@ import time
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
-from simple_robot_control.node_runtime import (build_parser, declare_parameters, EXIT_FAILED,
-                                               EXIT_OK, ParameterSpec, run)
+from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
+from simple_robot_control.node_runtime import build_parser, declare_parameters, ParameterSpec, run
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
+
+# Wall seconds the stop command at exit may take to be received.
+STOP_DELIVERY = 0.5
 
 PARAMETERS = (
     ParameterSpec('robot_name', 'robot0', 'robot to drive: topics <name>/cmd_vel and '
@@ -132,8 +136,9 @@ class MoveRobot(Node):
         return odometry
 
     def shut_down(self):
-        """Leave the robot standing still."""
+        """Leave the robot standing still: publish a stop and wait until it is received."""
         self._cmd_publisher.publish(Twist())
+        self._cmd_publisher.wait_for_all_acked(Duration(seconds=STOP_DELIVERY))
 
 
 def _stamp_ns(odometry):

@@ -19,8 +19,9 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from sensor_msgs.msg import LaserScan, Range
+from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
-                                               EXIT_OK, ParameterSpec, run)
+                                               ParameterSpec, run)
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds

@@ -278,3 +278,23 @@ def test_laser_and_sonars_are_published_with_their_frames(ros_context, executor)
     assert sonar.header.frame_id == 'robot0/sonar_0'
     assert sonar.radiation_type == Range.ULTRASOUND
     assert sonar.range == pytest.approx(3.0 - 0.15 - 0.35, abs=0.1)
+
+
+@pytest.mark.parametrize('request_text', [
+    '{name: robé, pose: [5.0, 5.0, 0.0]}',
+    '{name: fast, pose: [5.0, 5.0, 0.0], description: FAST}',
+    '{name: far, pose: [1e300, 5.0, 0.0]}',
+    '[not, a, mapping]',
+])
+def test_no_request_crashes_the_simulator(ros_context, executor, tmp_path, request_text):
+    fast = tmp_path / 'fast.yaml'
+    fast.write_text('footprint: {radius: 0.2}\nsensors:\n  lasers:\n    - {frame_id: laser_0, '
+                    'min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, num_rays: 5, '
+                    'frequency: 1e12}\n')
+    simulator, probe = start(ros_context, executor)
+    add = probe.create_publisher(String, '/stdr_lite/add_robot', 10)
+    wait_for_subscribers(executor, add)
+    add.publish(String(data=request_text.replace('FAST', str(fast))))
+    count = len(probe.odometry)
+    spin_until(executor, lambda: len(probe.odometry) > count + 50, what='steps after the request')
+    assert simulator.simulation.names == ['robot0']

@@ -7,10 +7,11 @@ import sys
 
 import pytest
 
+from simple_robot_control.executables import MODULES
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGE = 'simple_robot_control'
-EXECUTABLES = ['stdr_lite', 'move_robot', 'waypoint_controller', 'course_monitor', 'plot_run',
-               'stdr_viewer']
+EXECUTABLES = list(MODULES)
 
 
 @pytest.fixture(scope='module')
@@ -34,6 +35,9 @@ def test_package_is_registered_in_the_ament_index(install_tree):
     assert {path.name for path in (prefix / 'share' / PACKAGE / 'launch').iterdir()} >= {
         'stdr_lite.launch.py', 'waypoints.launch.py'}
     assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
+    assert {path.name for path in (prefix / 'share' / PACKAGE / 'config').iterdir()} == {
+        f'{name}.yaml' for name in ('stdr_lite', 'waypoint_controller', 'course_monitor',
+                                    'move_robot', 'stdr_viewer')}
 
 
 @pytest.mark.parametrize('name', EXECUTABLES)
@@ -44,3 +48,13 @@ def test_executables_are_where_ros2_run_looks(install_tree, name):
     result = subprocess.run(['bash', '-c', command], capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stderr
     assert f'usage: {name}' in result.stdout
+
+
+def test_the_tests_find_executables_where_ros2_run_does(install_tree):
+    """Under colcon test the ament index names the install tree, as on a Jazzy machine."""
+    command = (f'source "{install_tree}/setup.bash" && "{sys.executable}" -c '
+               '"import processes; print(processes.executable(\'stdr_lite\'))"')
+    result = subprocess.run(['bash', '-c', command], capture_output=True, text=True, timeout=60,
+                            cwd=REPOSITORY / 'test')
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == str(install_tree / PACKAGE / 'lib' / PACKAGE / 'stdr_lite')

@@ -13,11 +13,14 @@ import re
 
 import pytest
 
+from simple_robot_control.executables import MODULES
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_controller')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
-        'simple_robot_control/yaml_file.py', 'simple_robot_control/occupancy_map.py',
+        'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
+        'simple_robot_control/occupancy_map.py',
         'simple_robot_control/share.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'status', 'waypoints', 'run_record')]
@@ -69,8 +72,9 @@ def test_no_module_is_over_400_lines(path):
 
 def test_every_executable_lives_in_a_module_named_after_it():
     setup = (REPOSITORY / 'setup.py').read_text()
-    scripts = re.findall(r"'(\w+) = ([\w.]+):main'", setup)
-    assert len(scripts) >= 6
-    for executable, module in scripts:
+    installed = set(re.findall(r"'(\w+)'", setup[setup.index('EXECUTABLES = ('):]
+                               .split(')')[0]))
+    assert installed == set(MODULES)
+    for executable, module in MODULES.items():
         assert module.split('.')[-1] == executable
         assert (REPOSITORY / (module.replace('.', '/') + '.py')).is_file()

@@ -20,7 +20,7 @@ def test_motion_is_asked_in_the_labs_order_with_degrees_converted():
                        'Enter desired duration: ']
 
 
-@pytest.mark.parametrize('bad', ['abc', 'nan', 'inf', '-inf', '', '1e999'])
+@pytest.mark.parametrize('bad', ['abc', 'nan', 'inf', '-inf', '', '1e999', '5_0'])
 def test_non_finite_answers_are_refused_with_one_line(bad):
     written = []
     assert ask_number('v: ', scripted(bad, '2.5'), written.append) == 2.5

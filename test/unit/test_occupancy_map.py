@@ -1,5 +1,8 @@
 """Loading map_server maps: every YAML field, and a clear error for each kind of bad file."""
 
+import struct
+import zlib
+
 from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
@@ -74,7 +77,7 @@ BAD_YAML = {
     'unknown_field': ('image: x.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nocupied_thresh: 1\n',
                       "unknown field 'ocupied_thresh'"),
     'zero_resolution': ('image: x.pgm\nresolution: 0\norigin: [0, 0, 0]\n',
-                        'resolution must be positive'),
+                        'resolution must be in [0.001, 100], got 0 (metres per cell)'),
     'text_resolution': ('image: x.pgm\nresolution: fine\norigin: [0, 0, 0]\n',
                         "resolution must be a finite number, got 'fine'"),
     'short_origin': ('image: x.pgm\nresolution: 0.05\norigin: [0, 0]\n',
@@ -90,7 +93,7 @@ BAD_YAML = {
     'bad_mode': ('image: x.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nmode: fancy\n',
                  'mode must be one of trinary, scale, raw'),
     'missing_image': ('image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n',
-                      'map image not found'),
+                      'nowhere.pgm: cannot read map image: No such file or directory'),
 }
 
 
@@ -110,6 +113,37 @@ def test_bad_map_files_raise_one_line_errors_naming_the_file(tmp_path, case):
 def test_missing_yaml_file_is_named(tmp_path):
     with pytest.raises(MapError, match='nothing.yaml: cannot read map file'):
         load_map(tmp_path / 'nothing.yaml')
+
+
+def png_header(width, height):
+    """Return a PNG that declares a size in its header but holds no pixels."""
+    def chunk(kind, data):
+        return (struct.pack('>I', len(data)) + kind + data
+                + struct.pack('>I', zlib.crc32(kind + data)))
+    header = struct.pack('>IIBBBBB', width, height, 8, 0, 0, 0, 0)
+    return b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', header) + chunk(b'IEND', b'')
+
+
+@pytest.mark.parametrize('side', [5000, 14000])
+def test_a_decompression_bomb_is_refused_from_its_header(tmp_path, side):
+    (tmp_path / 'huge.png').write_bytes(png_header(side, side))
+    yaml_path = tmp_path / 'huge.yaml'
+    yaml_path.write_text('image: huge.png\nresolution: 0.05\norigin: [0, 0, 0]\n')
+    with pytest.raises(MapError, match='huge.png: map image .*is too large'):
+        load_map(yaml_path)
+
+
+def test_a_device_is_no_map_image(tmp_path):
+    yaml_path = tmp_path / 'zero.yaml'
+    yaml_path.write_text('image: /dev/zero\nresolution: 0.05\norigin: [0, 0, 0]\n')
+    with pytest.raises(MapError, match='^/dev/zero: map image is not a regular file$'):
+        load_map(yaml_path)
+
+
+def test_numbers_may_be_written_with_an_exponent(tmp_path):
+    yaml_path = write_map(tmp_path, walled_room(20, 10), resolution='5e-2')
+    yaml_path.write_text(yaml_path.read_text().replace("'5e-2'", '5e-2'))
+    assert load_map(yaml_path).resolution == 0.05
 
 
 def test_corrupt_image_is_named(tmp_path):

@@ -64,7 +64,8 @@ def edited(path_and_value):
 
 
 @pytest.mark.parametrize('change, message', [
-    ((('footprint', 'radius'), -1), 'footprint.radius: must be positive, got -1'),
+    ((('footprint', 'radius'), -1), 'footprint.radius: must be in (0, 5], got -1'),
+    ((('footprint', 'radius'), 1e6), 'footprint.radius: must be in (0, 5], got 1000000'),
     ((('footprint', 'radius'), None), 'footprint.radius: missing'),
     ((('footprint', 'points'), [[0, 0], [1, 0]]), 'footprint.points: polygon footprints are not'),
     ((('sensors', 'lasers', 0, 'num_rays'), 2.5), 'sensors.lasers[0].num_rays: expected a '
@@ -74,7 +75,16 @@ def edited(path_and_value):
     ((('sensors', 'sonars', 0, 'max_range'), 0.2), 'sensors.sonars[0].max_range: 0.2 must '
      'exceed min_range 0.3'),
     ((('sensors', 'sonars', 0, 'noise'), {'mean': 0, 'std': -1}),
-     'sensors.sonars[0].noise.std: must not be negative'),
+     'sensors.sonars[0].noise.std: must be in [0, 1], got -1'),
+    ((('sensors', 'lasers', 0, 'frequency'), 1e12),
+     'sensors.lasers[0].frequency: must be in [0.001, 1000], got 1e+12'),
+    ((('sensors', 'lasers', 0, 'frequency'), 1e-300),
+     'sensors.lasers[0].frequency: must be in [0.001, 1000], got 1e-300'),
+    ((('sensors', 'lasers', 0, 'num_rays'), 10 ** 9),
+     'sensors.lasers[0].num_rays: must be in [1, 10000], got 1000000000'),
+    ((('sensors', 'lasers', 0, 'min_angle'), -7), 'sensors.lasers[0].min_angle: must be in'),
+    ((('sensors', 'sonars', 0, 'cone_angle'), 0), 'sensors.sonars[0].cone_angle: must be in'),
+    ((('sensors', 'sonars', 0, 'max_range'), 1e308), 'sensors.sonars[0].max_range: must be in'),
     ((('sensors', 'lasers', 0, 'frame_id'), 'laser 0'), 'sensors.lasers[0].frame_id: expected '
      'a ROS name'),
     ((('initial_pose', 'theta'), float('nan')), 'initial_pose.theta: expected a finite number'),
@@ -84,6 +94,14 @@ def test_bad_robot_is_one_line_naming_the_key(change, message):
         parse_robot(edited(change), 'robot.yaml')
     assert f'robot.yaml: {message}' in str(raised.value)
     assert '\n' not in str(raised.value)
+
+
+def test_a_wrong_file_is_refused_without_echoing_its_contents():
+    contents = 'root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin'
+    with pytest.raises(RobotFileError) as raised:
+        parse_robot(contents, '/etc/passwd')
+    assert str(raised.value) == ('/etc/passwd: top level: expected a mapping, got a text of '
+                                 f'{len(contents)} characters')
 
 
 def test_nested_stdr_format_is_refused_clearly():

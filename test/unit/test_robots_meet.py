@@ -95,3 +95,10 @@ def test_a_crowd_never_overlaps(world):
         distances = np.hypot(*(centres[:, None, :] - centres[None, :, :]).transpose(2, 0, 1))
         np.fill_diagonal(distances, np.inf)
         assert distances.min() >= 0.4 - 1e-9
+
+
+def test_a_step_kilometres_long_is_checked_along_its_whole_path(world):
+    world.add_robot((3.0, 2.0, 0.0), 0.2)
+    linear, _ = world.step([10000.0], [0.0], 1.0)
+    assert linear.tolist() == [0.0]
+    assert world.poses[0].tolist() == [3.0, 2.0, 0.0]

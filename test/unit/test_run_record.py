@@ -43,7 +43,7 @@ def test_unfinished_record_has_no_result(tmp_path):
     (['{"course": "x"}'], "run.jsonl:1: not a run header (KeyError('waypoints')"),
     ([json.dumps(dict(HEADER, waypoints=[[1.0, 2.0]]))], 'run.jsonl:1: expected 3 finite'),
     ([json.dumps(HEADER), '{"t": 1.0, "pose": [1.0, NaN, 0.0]}'],
-     'run.jsonl:2: expected 3 finite numbers, got [1.0, nan, 0.0]'),
+     'run.jsonl:2: expected 3 finite numbers, got [1, nan, 0]'),
     ([json.dumps(HEADER), '{"t": "soon", "status": "FINISHED"}'],
      "run.jsonl:2: expected 1 finite number, got ['soon']"),
     ([json.dumps(HEADER), '', '{"t": 1.0, "speed": 3}'],
@@ -92,3 +92,23 @@ def test_heading_matches_across_the_wrap_and_repeated_stamps_are_ignored():
     assert not clock.odometry(0.0, (9.0, 9.0, 0.0))
     clock.odometry(0.02, (0.0, 0.0, 1.0))
     assert clock.date('WAYPOINT 1 0.000 0.000 -180.00') == 0.0
+
+
+def test_an_interrupted_record_is_read_up_to_its_last_whole_line(tmp_path):
+    path = tmp_path / 'run.jsonl'
+    whole = [json.dumps(HEADER), '{"t": 0.0, "pose": [1.0, 2.0, 0.0]}',
+             '{"t": 0.0, "status": "STARTED 1.000 2.000 0.00"}']
+    path.write_text('\n'.join(whole) + '\n{"t": 0.02, "pose": [1.0, 2.')
+    record = load_run(path)
+    assert record.cut_short_line == 4
+    assert record.poses == [(1.0, 2.0, 0.0)] and len(record.statuses) == 1
+    path.write_text('\n'.join(whole) + '\n')
+    assert load_run(path).cut_short_line is None
+
+
+def test_a_bad_line_inside_a_record_is_still_an_error(tmp_path):
+    path = tmp_path / 'run.jsonl'
+    path.write_text(json.dumps(HEADER) + '\n{"t": 0.0, "pose": [1.0,\n'
+                    '{"t": 0.0, "pose": [1, 2, 3]}')
+    with pytest.raises(RunRecordError, match='run.jsonl:2: not JSON'):
+        load_run(path)

@@ -1,5 +1,6 @@
 """The simulation core: robots by name, held commands, sensor schedules, lockstep answers."""
 
+from dataclasses import replace
 import math
 
 from map_fixtures import walled_room, write_map
@@ -45,6 +46,9 @@ def test_robots_are_known_by_name_and_keep_their_state_when_others_leave(room):
     (robot('b', 40.0), PlacementError, 'off the map'),
     (robot('a', 8.0), RequestError, 'exists already'),
     (robot('robé', 8.0), RequestError, 'must be a ROS name'),
+    (robot('b', 8.0, description=RobotDescription(0.2, (0, 0, 0),
+                                                  (replace(LASER, frequency=80.0),))),
+     RequestError, 'laser_0 reads at 80 Hz, faster than the simulation steps'),
 ])
 def test_a_refused_robot_changes_nothing(room, entry, error, message):
     simulation = Simulation(room, robots=[robot('a', 2.0)])

@@ -4,7 +4,7 @@ import math
 
 import pytest
 from simple_robot_control.validation import (Bounds, compact, is_finite_number, NON_NEGATIVE,
-                                             POSITIVE, ros_name_problem)
+                                             parse_decimal, POSITIVE, ros_name_problem)
 
 
 @pytest.mark.parametrize('value, finite', [(1, True), (2.5, True), (-0.0, True),
@@ -43,3 +43,15 @@ def test_other_names_are_refused_in_one_line(name):
     problem = ros_name_problem(name, 'robot name')
     assert problem.startswith('robot name must be a ROS name (') and '\n' not in problem
     assert problem.endswith(f'got {name!r}')
+
+
+@pytest.mark.parametrize('text, value', [('2', 2.0), ('-0.5', -0.5), ('.5', 0.5), ('1e3', 1000.0),
+                                         ('+3.', 3.0), ('7E-1', 0.7)])
+def test_plain_decimals_are_read(text, value):
+    assert parse_decimal(text) == value
+
+
+@pytest.mark.parametrize('text', ['5_0', '\u0661\u0662', 'inf', 'nan', '0x10', '1e999', '',
+                                  ' 1', '1,5', '--1'])
+def test_what_python_would_also_take_is_refused(text):
+    assert parse_decimal(text) is None

@@ -1,6 +1,7 @@
 """Waypoint files: the formats the lab allows, and one clear line for every kind of error."""
 
 import math
+import os
 
 from hypothesis import given, strategies as st
 import pytest
@@ -32,8 +33,12 @@ def test_any_whitespace_layout_reads_the_same_numbers(triples, separators):
 
 @pytest.mark.parametrize('text, expected', [
     ('1 2 3\n4 five 6\n', "course.txt:2: 'five' is not a number"),
-    ('1 2 nan\n', "course.txt:1: 'nan' is not a finite number"),
-    ('1 2 3\n\n4 inf 6\n', "course.txt:3: 'inf' is not a finite number"),
+    ('1 2 nan\n', "course.txt:1: 'nan' is not a number"),
+    ('1 2 3\n\n4 inf 6\n', "course.txt:3: 'inf' is not a number"),
+    ('1 5_0 3\n', "course.txt:1: '5_0' is not a number (write plain decimals"),
+    ('1 \u0661\u0662 3\n', "course.txt:1: '\u0661\u0662' is not a number"),
+    ('0x10 1 2\n', "course.txt:1: '0x10' is not a number"),
+    ('1 2 1e999\n', "course.txt:1: '1e999' is not a number"),
     ('1 2 3\n4 5\n', 'course.txt:2: 5 numbers is not a whole number'),
     ('', 'course.txt: no waypoints'),
     ('# only a comment\n\n', 'course.txt: no waypoints'),
@@ -55,5 +60,23 @@ def test_missing_file_is_named(tmp_path):
 def test_binary_file_is_refused(tmp_path):
     path = tmp_path / 'course.bin'
     path.write_bytes(b'\xff\xfe\x00\x81')
-    with pytest.raises(WaypointFileError, match='course.bin: not a text file'):
+    with pytest.raises(WaypointFileError, match='course.bin: waypoint file is not a text file'):
+        load_waypoints(path)
+
+
+def test_a_file_saved_with_a_byte_order_mark_reads_as_without(tmp_path):
+    path = tmp_path / 'notepad.txt'
+    path.write_bytes('\ufeff1 2 90\r\n3 4 0\r\n'.encode('utf-8'))
+    assert load_waypoints(path) == [Waypoint(1, 2, math.pi / 2), Waypoint(3, 4, 0)]
+
+
+@pytest.mark.parametrize('make, message', [
+    (lambda path: os.mkfifo(path), 'waypoint file is not a regular file'),
+    (lambda path: path.symlink_to('/dev/zero'), 'waypoint file is not a regular file'),
+    (lambda path: path.write_bytes(b'1 ' * (6 << 20)), 'waypoint file is too large'),
+])
+def test_what_is_not_a_course_file_is_refused_before_reading(tmp_path, make, message):
+    path = tmp_path / 'course.txt'
+    make(path)
+    with pytest.raises(WaypointFileError, match=message):
         load_waypoints(path)

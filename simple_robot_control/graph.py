@@ -1,0 +1,53 @@
+"""What nodes ask of the ROS graph: who else publishes, and whether every reader has caught up."""
+
+import time
+
+from rclpy.duration import Duration
+
+# Participants on this host find each other within this much wall time. Measured here with
+# Fast DDS's default transports (shared memory and UDP): usually 0.05 to 0.2 s, but about one
+# time in ten the quick exchange is missed and a peer appears only with its next periodic
+# announcement, up to 3 s later (3.06 s seen). A node younger than this may not see every peer.
+DISCOVERY_TIME = 4.0
+SETTLED_FOR = 0.25
+POLL_PERIOD = 0.02
+
+
+def other_publishers(node, topic, own=1):
+    """
+    Return the full names of the publishers on topic (resolved) besides node's own.
+
+    Two nodes may bear one name (two controllers started alike), so own publishers are
+    discounted by number rather than every publisher named like node left out.
+    """
+    me = f'{node.get_namespace().rstrip("/")}/{node.get_name()}'
+    names = sorted(f'{info.node_namespace.rstrip("/")}/{info.node_name}'
+                   for info in node.get_publishers_info_by_topic(topic))
+    for _ in range(own):
+        if me in names:
+            names.remove(me)
+    return names
+
+
+def deliver_before_exit(publisher, alive_since, budget):
+    """
+    Wait, at most budget seconds of wall time, until every reader has every message.
+
+    A reader that existed before the node started may not be matched yet when a short run
+    ends, and wait_for_all_acked covers only matched readers; so first let the node reach the
+    discovery time and the reader count stay unchanged for a moment, then wait for the acks.
+    Discovery runs in the middleware's own threads: nothing needs to spin meanwhile.
+    """
+    deadline = time.monotonic() + budget
+    count, steady_since = publisher.get_subscription_count(), time.monotonic()
+    while time.monotonic() < deadline:
+        now = time.monotonic()
+        current = publisher.get_subscription_count()
+        if current != count:
+            count, steady_since = current, now
+        if now >= alive_since + DISCOVERY_TIME and now - steady_since >= SETTLED_FOR:
+            break
+        time.sleep(POLL_PERIOD)
+    remaining = deadline - time.monotonic()
+    if remaining > 0.0:
+        publisher.wait_for_all_acked(Duration(seconds=remaining))

@@ -1,0 +1,60 @@
+"""Warnings a running simulator owes its user: falling behind, and commands that would mix."""
+
+import time
+
+from rclpy.clock import Clock, ClockType
+
+from simple_robot_control.graph import other_publishers
+
+CHECK_PERIOD = 1.0
+# A free-running simulator achieving less than this share of its real_time_factor is behind.
+BEHIND = 0.9
+WARN_EVERY = 10.0
+# cmd_vel topics whose publishers are counted per check, so a large swarm costs little.
+TOPICS_PER_CHECK = 100
+
+
+class HealthWatch:
+    """Checks, once a second of wall time, the pace and the publishers of every cmd_vel."""
+
+    def __init__(self, node, simulation, topics, real_time_factor):
+        self._node = node
+        self._simulation = simulation
+        self._topics = topics
+        self._target = real_time_factor
+        self._since = (time.monotonic(), simulation.sim_time)
+        self._next_topic = 0
+        node.create_timer(CHECK_PERIOD, self.check,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    def check(self):
+        self._check_pace()
+        self._check_publishers()
+
+    def _check_pace(self):
+        """Warn with the achieved factor when a paced, free-running simulation lags."""
+        now, sim_time = time.monotonic(), self._simulation.sim_time
+        achieved = (sim_time - self._since[1]) / max(now - self._since[0], 1e-9)
+        self._since = (now, sim_time)
+        if self._target > 0.0 and achieved < BEHIND * self._target:
+            self._node.get_logger().warn(
+                f'running at {achieved:.2f}x real time, behind real_time_factor '
+                f'{self._target:g} with {len(self._simulation.names)} robots: this machine '
+                'cannot keep up; lower rate_hz or the robot count, or use lockstep',
+                throttle_duration_sec=WARN_EVERY)
+
+    def _check_publishers(self):
+        """Warn when a robot's cmd_vel has publishers in more than one node."""
+        names = list(self._topics)
+        if not names:
+            return
+        start = self._next_topic % len(names)
+        chosen = (names[start:] + names[:start])[:TOPICS_PER_CHECK]
+        self._next_topic = start + len(chosen)
+        for name in chosen:
+            topic = self._topics[name].cmd_vel_topic
+            publishers = other_publishers(self._node, topic, own=0)
+            if len(publishers) > 1:
+                self._node.get_logger().warn(
+                    f'{topic} has {len(publishers)} publishers ({", ".join(publishers)}): their '
+                    'commands mix; stop all but one', throttle_duration_sec=WARN_EVERY)

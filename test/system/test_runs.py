@@ -1,0 +1,120 @@
+"""Runs across processes: nothing is lost, nothing drives blind, nothing goes unnoticed."""
+
+import signal
+import time
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from processes import run, start_logged, stop, wait_for_text
+import pytest
+from rclpy.node import Node
+from ros_helpers import spin_until
+
+from waypoint_controller.waypoint_controller import NEWCOMER_FOR
+
+REPEATS = 3
+
+
+@pytest.fixture
+def simulator(tmp_path):
+    """Run stdr_lite free at ten times real time; give its log file."""
+    log = tmp_path / 'stdr_lite.log'
+    process = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=10.0', log=log)
+    wait_for_text(log, 'real_time_factor', process)
+    yield process, log
+    if process.poll() is None:
+        assert stop(process, signal.SIGINT)[0] == 0
+
+
+def test_a_short_run_reaches_a_subscriber_that_was_there_first(tmp_path, simulator, ros_context):
+    course = tmp_path / 'course.txt'
+    course.write_text('1.3 2 0\n')
+    watcher = Node('watcher', context=ros_context)
+    for attempt in range(REPEATS):
+        log = tmp_path / f'monitor{attempt}.log'
+        monitor = start_logged('course_monitor', str(course), log=log)
+        deadline = time.monotonic() + 20.0
+        while watcher.count_subscribers('/robot_status') == 0:
+            assert time.monotonic() < deadline, 'course_monitor never subscribed'
+            time.sleep(0.05)
+        controller = run('waypoint_controller', str(course), timeout=60)
+        assert controller.returncode == 0, controller.stderr
+        assert monitor.wait(timeout=20) == 0, log.read_text()
+        assert log.read_text().splitlines()[-2:][0] == 'FINISHED'
+    watcher.destroy_node()
+
+
+def test_a_second_controller_on_the_same_robot_is_refused(tmp_path):
+    log = tmp_path / 'first.log'
+    first = start_logged('waypoint_controller', log=log)
+    try:
+        wait_for_text(log, 'following', first)
+        time.sleep(NEWCOMER_FOR + 1.0)
+        second = run('waypoint_controller', timeout=30)
+    finally:
+        assert stop(first, signal.SIGINT)[0] == 0
+    assert second.returncode == 2
+    lines = second.stderr.strip().splitlines()
+    assert lines[-1] == ('waypoint_controller: error: /waypoint_controller already publishes on '
+                         '/robot0/cmd_vel: one robot takes commands from one node; stop it or '
+                         'give robot_name')
+    assert 'Traceback' not in second.stderr
+
+
+def test_a_restarted_simulator_stops_the_controller(tmp_path, simulator):
+    process, _ = simulator
+    course = tmp_path / 'course.txt'
+    course.write_text('15 2 0\n15 12 90\n')
+    log = tmp_path / 'controller.log'
+    controller = start_logged('waypoint_controller', str(course), log=log)
+    wait_for_text(log, 'STARTED', controller)
+    time.sleep(2.0)
+    assert stop(process, signal.SIGINT)[0] == 0
+    restarted = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=10.0',
+                             log=tmp_path / 'restarted.log')
+    try:
+        assert controller.wait(timeout=30) == 1
+    finally:
+        stop(restarted, signal.SIGINT)
+    output = log.read_text()
+    assert 'went back' in output and 'the simulator restarted; stopping the robot' in output
+    assert 'ABORTED 1 1.000 2.000 0.00' in output
+
+
+def test_the_controller_names_the_remapped_topic_while_odometry_is_absent(tmp_path):
+    log = tmp_path / 'controller.log'
+    controller = start_logged('waypoint_controller', '--ros-args', '-r',
+                              '/robot0/odom:=/elsewhere/odom', log=log)
+    try:
+        wait_for_text(log, 'no odometry on /elsewhere/odom for 3 s: is stdr_lite running?',
+                      controller, timeout=10.0)
+    finally:
+        assert stop(controller, signal.SIGINT)[0] == 0
+
+
+def test_the_simulator_warns_when_two_nodes_command_one_robot(simulator, ros_context, executor):
+    _, log = simulator
+    publishers = []
+    for name in ('teleop', 'script'):
+        node = Node(name, context=ros_context)
+        executor.add_node(node)
+        publishers.append(node.create_publisher(Twist, '/robot0/cmd_vel', 10))
+    wait_for_text(log, '/robot0/cmd_vel has 2 publishers (/script, /teleop): their commands '
+                  'mix', timeout=10.0)
+
+
+def test_ctrl_c_stops_the_robot_it_drives(tmp_path, simulator, ros_context, executor):
+    course = tmp_path / 'course.txt'
+    course.write_text('15 2 0\n')
+    speeds = []
+    watcher = Node('watcher', context=ros_context)
+    watcher.create_subscription(Odometry, '/robot0/odom',
+                                lambda message: speeds.append(message.twist.twist.linear.x), 10)
+    executor.add_node(watcher)
+    controller = start_logged('waypoint_controller', str(course), log=tmp_path / 'c.log')
+    spin_until(executor, lambda: speeds and speeds[-1] > 0.4, timeout=30.0,
+               what='the robot driving')
+    assert stop(controller, signal.SIGINT)[0] == 0
+    count = len(speeds)
+    spin_until(executor, lambda: len(speeds) > count + 20, what='odometry after the stop')
+    assert speeds[-1] == 0.0
