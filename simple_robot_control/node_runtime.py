@@ -13,7 +13,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
-from rclpy.utilities import remove_ros_args
+from rclpy.utilities import get_default_context, remove_ros_args
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
 from simple_robot_control.validation import Bounds, compact, is_finite_number, ros_name_problem
 
@@ -200,6 +200,8 @@ def run(prog, parser, make_node, argv=None):
         rclpy.try_shutdown()
     if leave_endpoints:
         _exit_now(code)
+    # With no node left, this deletes the DDS participant now, so peers see it go at once.
+    get_default_context().destroy()
     return code
 
 
