@@ -35,9 +35,14 @@ test: install
 test-unit test-node test-system: install
 	$(PYTHON) -m pytest test/$(@:test-%=%)
 
-install: $(VENV)/.dependencies
+install: $(VENV)/.dependencies $(VENV)/.interfaces
 	rm -rf build
 	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
+
+# Interface packages the PyPI wheels lack (tf2_msgs), built into the venv when they do not import.
+$(VENV)/.interfaces: $(VENV)/.dependencies scripts/build_interfaces.sh requirements/interfaces.txt $(shell find interfaces -type f)
+	scripts/build_interfaces.sh $(VENV)
+	touch $@
 
 $(VENV)/.dependencies: requirements/ros-jazzy.txt requirements/test.txt setup.py
 	test -x $(PYTHON) || python3 -m venv $(VENV)

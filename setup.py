@@ -23,6 +23,7 @@ setup(
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml'))),
         (f'{SHARE}/config', sorted(glob('config/*.yaml'))),
+        (f'{SHARE}/rviz', sorted(glob('rviz/*.rviz'))),
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'pygame'],

@@ -40,7 +40,12 @@ def crowded_scene(robot_count, seed=4):
         else:
             robot.sonars[spec.frame_id] = SonarReading(spec.cone_angle, spec.min_range,
                                                        spec.max_range, reading)
-    return scene, simulation.robot(simulation.names[0]).description
+    for name in simulation.names:
+        robot = simulation.robot(name)
+        look = scene.own_look(name)
+        look.radius = robot.description.radius
+        look.mounts = {sensor.spec.frame_id: sensor.spec.pose for sensor in robot.sensors}
+    return scene
 
 
 def main(argv=None):
@@ -51,13 +56,13 @@ def main(argv=None):
     os.environ['SDL_VIDEODRIVER'] = 'dummy'
     pygame.font.init()
     surface = pygame.Surface((1000, 750))
-    scene, description = crowded_scene(args.robots)
+    scene = crowded_scene(args.robots)
     view = View(surface.get_size())
     view.fit(scene.extent())
     painter = Painter(pygame.font.Font(None, 22))
     started = time.perf_counter()
     for _ in range(args.frames):
-        painter.draw(surface, scene, view, lambda name: description)
+        painter.draw(surface, scene, view)
     rate = args.frames / (time.perf_counter() - started)
     print(f'{args.robots} robots with laser, sonars and trails, 1000x750: {rate:.0f} frames '
           'per second (target >= 20)')

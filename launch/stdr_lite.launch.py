@@ -1,10 +1,16 @@
-"""Start the stdr_lite simulator: ros2 launch simple_robot_control stdr_lite.launch.py."""
+"""
+Start the stdr_lite simulator, and RViz on request.
+
+ros2 launch simple_robot_control stdr_lite.launch.py [rviz:=true] [real_time_factor:=2.0] ...
+"""
 
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
-from launch.substitutions import LaunchConfiguration
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
+from launch_ros.substitutions import FindPackageShare
 
 ARGUMENTS = {
     'map_yaml': ('', 'map_server YAML of the world; empty for the bundled lab_room', str),
@@ -16,15 +22,28 @@ ARGUMENTS = {
                  bool),
     'robot_description': ('', 'STDR robot YAML; empty for the bundled lab robot', str),
     'robots_file': ('', 'robot list YAML; empty for one robot, robot0', str),
+    'odom_rate_hz': ('0.0', 'odometry and TF rate; 0 = every step', float),
+    'odom_noise_distance': ('0.0', 'odometry drift: m of distance error after 1 m', float),
+    'odom_noise_turn': ('0.0', 'odometry drift: rad of heading error after turning 1 rad',
+                        float),
+    'odom_noise_heading_per_distance': ('0.0', 'odometry drift: rad of heading error after '
+                                        '1 m straight', float),
+    'cmd_vel_stamped': ('false', 'take geometry_msgs/TwistStamped commands', bool),
 }
 
 
 def generate_launch_description():
+    view = PathJoinSubstitution([FindPackageShare('simple_robot_control'), 'rviz',
+                                 'stdr_lite.rviz'])
     return LaunchDescription([
         *(DeclareLaunchArgument(name, default_value=default, description=description)
           for name, (default, description, _) in ARGUMENTS.items()),
+        DeclareLaunchArgument('rviz', default_value='false',
+                              description='also start rviz2 with the bundled view'),
         Node(package='simple_robot_control', executable='stdr_lite', name='stdr_lite',
              output='screen',
              parameters=[{name: ParameterValue(LaunchConfiguration(name), value_type=kind)
                           for name, (_, _, kind) in ARGUMENTS.items()}]),
+        Node(package='rviz2', executable='rviz2', name='rviz2', arguments=['-d', view],
+             condition=IfCondition(LaunchConfiguration('rviz'))),
     ])

@@ -30,3 +30,19 @@ def set_pose(pose, x: float, y: float, theta: float) -> None:
     """Write (x, y, theta) into a geometry_msgs Pose, in place (z stays as it is)."""
     pose.position.x, pose.position.y = x, y
     set_yaw(pose.orientation, theta)
+
+
+def compose(first: tuple, second: tuple) -> tuple:
+    """Return the planar transform first * second: second expressed in first's parent frame."""
+    x, y, theta = first
+    cos_theta, sin_theta = math.cos(theta), math.sin(theta)
+    return (x + cos_theta * second[0] - sin_theta * second[1],
+            y + sin_theta * second[0] + cos_theta * second[1],
+            math.remainder(theta + second[2], math.tau))
+
+
+def invert(transform: tuple) -> tuple:
+    """Return the inverse of a planar transform (x, y, theta)."""
+    x, y, theta = transform
+    cos_theta, sin_theta = math.cos(theta), math.sin(theta)
+    return (-cos_theta * x - sin_theta * y, sin_theta * x - cos_theta * y, -theta)

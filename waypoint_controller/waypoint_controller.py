@@ -5,7 +5,6 @@ import math
 import sys
 import time
 
-from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
@@ -18,6 +17,7 @@ from simple_robot_control.node_runtime import (accept_tuning, build_parser, Conf
                                                declare_parameters, ParameterSpec, run)
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
+from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
 from waypoint_controller.control_law import CourseFollower
 from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course, status_qos,
@@ -36,6 +36,8 @@ WATCH_PERIOD = 0.5
 ODOMETRY_SILENCE = 3.0
 EXIT_WAIT = DISCOVERY_TIME
 INTERRUPTED_WAIT = 0.3
+
+STOP = (0.0, 0.0)
 
 SPEED = Bounds(0.0, 10.0, low_open=True)
 GAIN = Bounds(0.0, 1000.0)
@@ -62,6 +64,8 @@ PARAMETERS = COURSE_PARAMETERS + (
                   GAIN, tunable=True),
     ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]', GAIN,
                   tunable=True),
+    ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
+                  'simulator (or robot) that takes them so'),
 )
 
 _CONFIG_FIELDS = ('max_linear_speed', 'max_angular_speed', 'distance_tolerance', 'heading_kp',
@@ -100,13 +104,13 @@ class WaypointController(Node):
         self._pose = None
         self._stamp = None
         self._answered = None
-        self._command = Twist()
+        self._command = STOP
         self._started_at = self._odometry_at = time.monotonic()
         self._held = None
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
                                                        status_qos(len(waypoints)))
         robot = params['robot_name']
-        self._cmd_publisher = self.create_publisher(Twist, f'{robot}/cmd_vel', 10)
+        self._commands = VelocityPublisher(self, f'{robot}/cmd_vel', params['cmd_vel_stamped'])
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
                                                     self._on_odometry, 10).topic_name
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -132,13 +136,13 @@ class WaypointController(Node):
         the check is repeated while the controller is a newcomer (NEWCOMER_FOR), in case
         discovery was slow. Only the newcomer refuses: a controller past that keeps its robot.
         """
-        others = other_publishers(self, self._cmd_publisher.topic_name)
+        others = other_publishers(self, self._commands.topic_name)
         if not others or self.finished.done():
             return
-        self._command = Twist()
-        self._cmd_publisher.publish(self._command)
+        self._command = STOP
+        self._commands.publish(*self._command)
         self.finished.set_exception(ConfigError(
-            f'{", ".join(others)} already publishes on {self._cmd_publisher.topic_name}: '
+            f'{", ".join(others)} already publishes on {self._commands.topic_name}: '
             'one robot takes commands from one node; stop it or give robot_name'))
 
     def _on_tuning(self, changes):
@@ -168,8 +172,8 @@ class WaypointController(Node):
         if stamp != self._stamp:
             self._stamp = stamp
             self._control_step(pose_from_message(message.pose.pose), stamp)
-        if self._answered != stamp and self._cmd_publisher.get_subscription_count() > 0:
-            self._cmd_publisher.publish(self._command)
+        if self._answered != stamp and self._commands.publisher.get_subscription_count() > 0:
+            self._commands.publish(*self._command)
             self._answered = stamp
 
     def _control_step(self, pose, stamp):
@@ -203,8 +207,7 @@ class WaypointController(Node):
                 self._follower.reconfigure(self._pending_config)
                 self._pending_config = None
             step = self._follower.update(pose, elapsed * 1e-9)
-            self._command = Twist()
-            self._command.linear.x, self._command.angular.z = step.linear, step.angular
+            self._command = (step.linear, step.angular)
 
     def _time_went_back(self, stamp, pose):
         """Stop at once after a simulator restart, rather than act on a world that is gone."""
@@ -213,7 +216,7 @@ class WaypointController(Node):
             f'{stamp * 1e-9:.3f} s: the simulator restarted; stopping the robot')
         self._report(aborted(self._follower.next_index + 1, pose))
         self._stop(EXIT_FAILED)
-        self._cmd_publisher.publish(self._command)
+        self._commands.publish(*self._command)
 
     def _watch_odometry(self):
         if self._discovery is None and time.monotonic() - self._started_at < NEWCOMER_FOR:
@@ -228,7 +231,7 @@ class WaypointController(Node):
         self._status_publisher.publish(String(data=text))
 
     def _stop(self, exit_code):
-        self._command = Twist()
+        self._command = STOP
         if not self.finished.done():
             self.finished.set_result(exit_code)
 
@@ -243,8 +246,8 @@ class WaypointController(Node):
         self._stop(EXIT_OK)
         # Fast DDS sends from a thread of its own: wait until the simulator has the stop, or
         # the process would end with the command still queued.
-        self._cmd_publisher.publish(self._command)
-        self._cmd_publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
+        self._commands.publish(*self._command)
+        self._commands.publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
         if ended:
             deliver_before_exit(self._status_publisher, self._started_at, EXIT_WAIT)
         else:

@@ -15,8 +15,10 @@ from typing import Iterable
 
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.pose import compose, invert
 from simple_robot_control.validation import compact, ros_name_problem
 from stdr_lite.core.commands import CommandBuffer
+from stdr_lite.core.odometry import Odometry, OdometryNoise, OdometryReading
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.sensors import RangeFinder, read_sensors
 from stdr_lite.core.world import PlacementError, World
@@ -40,7 +42,7 @@ class CommandOutcome(enum.Enum):
 
 @dataclass(frozen=True)
 class SimulationSettings:
-    """How the world is stepped; SI units."""
+    """How the world is stepped and measured; SI units. odom_rate_hz 0 is every step."""
 
     rate_hz: float = 50.0
     integrator: str = 'euler'
@@ -48,15 +50,32 @@ class SimulationSettings:
     max_angular_speed: float = math.pi
     cmd_vel_timeout: float = 0.0
     sensor_seed: int = 0
+    odom_rate_hz: float = 0.0
+    odometry_noise: OdometryNoise = OdometryNoise()
+    odom_seed: int = 0
+
+
+class PeriodicSchedule:
+    """Falls due once per period of sim time, from first_due_ns on, whatever the step rate."""
+
+    def __init__(self, period_ns: int, first_due_ns: int):
+        self.period_ns = period_ns
+        self.next_due_ns = first_due_ns
+
+    def due(self, now_ns: int) -> bool:
+        """Whether the schedule falls due at now_ns; if so, it moves on to the next period."""
+        if now_ns < self.next_due_ns:
+            return False
+        self.next_due_ns += self.period_ns * (1 + (now_ns - self.next_due_ns) // self.period_ns)
+        return True
 
 
 @dataclass
 class ScheduledSensor:
-    """A laser or sonar and the sim time (ns) at which it next reads."""
+    """A laser or sonar and when it next reads."""
 
     spec: object
-    period_ns: int
-    next_due_ns: int
+    schedule: PeriodicSchedule
 
 
 @dataclass
@@ -90,6 +109,10 @@ class Simulation:
         self._commands = CommandBuffer(0, settings.max_linear_speed, settings.max_angular_speed,
                                        settings.cmd_vel_timeout)
         self._applied = (np.zeros(0), np.zeros(0))
+        self._odometry = Odometry(settings.odometry_noise, settings.odom_seed)
+        odometry_period = (self.dt_ns if settings.odom_rate_hz <= 0.0
+                           else round(NANOSECONDS / settings.odom_rate_hz))
+        self._odometry_schedule = PeriodicSchedule(odometry_period, 0)
         self._robots = []
         self._indices = {}
         self._unanswered = set()
@@ -166,10 +189,12 @@ class Simulation:
             self.world.add_robot(entry.pose, entry.description.radius)
         self._commands.add_robot()
         self._applied = tuple(np.append(values, 0.0) for values in self._applied)
-        sensors = [ScheduledSensor(spec, round(NANOSECONDS / spec.frequency), 0)
-                   for spec in entry.description.lasers + entry.description.sonars]
-        for sensor in sensors:
-            sensor.next_due_ns = self.time_ns + sensor.period_ns
+        self._odometry.add_robot(entry.pose)
+        sensors = []
+        for spec in entry.description.lasers + entry.description.sonars:
+            period_ns = round(NANOSECONDS / spec.frequency)
+            sensors.append(ScheduledSensor(spec, PeriodicSchedule(period_ns,
+                                                                  self.time_ns + period_ns)))
         self._robots.append(SimulatedRobot(entry.name, entry.description, sensors))
         self._renumber()
 
@@ -179,12 +204,17 @@ class Simulation:
         self.world.remove_robot(index)
         self._commands.remove_robot(index)
         self._applied = tuple(np.delete(values, index) for values in self._applied)
+        self._odometry.remove_robot(index)
         del self._robots[index]
         self._unanswered.discard(name)
         self._renumber()
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
-        """Move a robot to pose, or raise PlacementError and leave it where it is."""
+        """
+        Move a robot to pose, or raise PlacementError and leave it where it is.
+
+        Drifting odometry does not notice (the robot was carried): map -> odom takes the jump.
+        """
         index = self._index(name)
         with self._naming_overlaps():
             self.world.move_robot(index, pose)
@@ -202,7 +232,39 @@ class Simulation:
         """Advance every robot by dt under its held command."""
         linear, angular = self._commands.current(self.sim_time)
         self._applied = self.world.step(linear, angular, self.dt)
+        if self._odometry.noise.enabled:
+            self._odometry.advance(self.world.poses, *self._applied, self.dt)
         self.step_count += 1
+
+    def odometry_due(self) -> bool:
+        """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
+        return self._odometry_schedule.due(self.time_ns)
+
+    def odometry(self, name: str) -> OdometryReading:
+        """
+        Return the robot's odometry: its pose in its odom frame and its measured velocity.
+
+        Without noise these are the true pose and the applied velocity, with zero spread.
+        """
+        if self._odometry.noise.enabled:
+            return self._odometry.reading(self._index(name))
+        return self.ground_truth(name)
+
+    def ground_truth(self, name: str) -> OdometryReading:
+        """Return the robot's true pose in the map frame and its applied velocity, exactly."""
+        return OdometryReading(self.pose(name), self.applied_velocity(name), np.zeros((3, 3)),
+                               (0.0, 0.0))
+
+    def map_to_odom(self, name: str) -> tuple[float, float, float]:
+        """
+        Return the transform from the map frame to the robot's odom frame.
+
+        It is what makes map -> odom -> base_link the true pose, as a perfect localiser would
+        publish it: the identity while the odometry is exact.
+        """
+        if not self._odometry.noise.enabled:
+            return 0.0, 0.0, 0.0
+        return compose(self.pose(name), invert(self.odometry(name).pose))
 
     def due_sensors(self) -> list[tuple[str, object]]:
         """
@@ -211,16 +273,8 @@ class Simulation:
         Each sensor is due once per period of sim time; its schedule moves on whether or not
         the caller then reads it, so an unread sensor costs nothing.
         """
-        now_ns = self.time_ns
-        due = []
-        for robot in self._robots:
-            for sensor in robot.sensors:
-                if now_ns < sensor.next_due_ns:
-                    continue
-                sensor.next_due_ns += sensor.period_ns * (
-                    1 + (now_ns - sensor.next_due_ns) // sensor.period_ns)
-                due.append((robot.name, sensor.spec))
-        return due
+        return [(robot.name, sensor.spec) for robot in self._robots for sensor in robot.sensors
+                if sensor.schedule.due(self.time_ns)]
 
     def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""

@@ -3,7 +3,6 @@
 import time
 
 from rclpy.clock import Clock, ClockType
-
 from simple_robot_control.graph import other_publishers
 
 CHECK_PERIOD = 1.0

@@ -1,11 +1,21 @@
-"""ROS messages of the simulator, filled from the simulation's own descriptions."""
+"""ROS messages of the simulator, filled from the simulation's own state and descriptions."""
 
+from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import LaserScan, Range
-from simple_robot_control.pose import set_yaw
+from simple_robot_control.pose import set_pose, set_yaw
 from stdr_lite.core.robot_description import LaserSpec
+from visualization_msgs.msg import Marker
 
 NANOSECONDS = 1_000_000_000
+# A variance that claims near certainty without claiming exactness, where drifting odometry
+# knows a quantity almost perfectly (a planar robot's height, roll and pitch): consumers that
+# invert the covariance get a matrix they can invert.
+NEAR_CERTAIN = 1e-9
+ROBOT_COLOUR = (0.12, 0.31, 0.86)
+MARKER_HEIGHT = 0.1
+# Places of x, y and yaw in a 6x6 covariance (x, y, z, roll, pitch, yaw).
+PLANAR = (0, 1, 5)
 
 
 def set_stamp(stamp, time_ns):
@@ -28,9 +38,44 @@ def map_message(occupancy_map, frame_id):
     return message
 
 
-def sensor_message(robot_name, spec):
+def fill_odometry(message, time_ns, reading):
+    """
+    Write an odometry reading (pose, velocity, their spread) into a nav_msgs/Odometry.
+
+    The planar pose covariance (x, y, yaw) goes into its places of the 6x6 matrix; when the
+    reading has any spread, the diagonal gets no zero, so the matrix stays invertible.
+    """
+    set_stamp(message.header.stamp, time_ns)
+    set_pose(message.pose.pose, *reading.pose)
+    message.twist.twist.linear.x, message.twist.twist.angular.z = reading.velocity
+    pose_covariance = [0.0] * 36
+    twist_covariance = [0.0] * 36
+    if reading.pose_covariance.any() or any(reading.velocity_variance):
+        for index in range(6):
+            pose_covariance[7 * index] = twist_covariance[7 * index] = NEAR_CERTAIN
+        for row, row_place in enumerate(PLANAR):
+            for column, column_place in enumerate(PLANAR):
+                pose_covariance[6 * row_place + column_place] += float(
+                    reading.pose_covariance[row, column])
+        twist_covariance[0] += reading.velocity_variance[0]
+        twist_covariance[35] += reading.velocity_variance[1]
+    message.pose.covariance = pose_covariance
+    message.twist.covariance = twist_covariance
+
+
+def transform(time_ns, parent, child, pose):
+    """Return a TransformStamped placing child at the planar pose (x, y, yaw) in parent."""
+    message = TransformStamped()
+    set_stamp(message.header.stamp, time_ns)
+    message.header.frame_id, message.child_frame_id = parent, child
+    message.transform.translation.x, message.transform.translation.y = pose[0], pose[1]
+    set_yaw(message.transform.rotation, pose[2])
+    return message
+
+
+def sensor_message(frame_id, spec):
     """Return a LaserScan or Range with all but the stamp and the reading filled in."""
-    return (_laser_message if isinstance(spec, LaserSpec) else _sonar_message)(robot_name, spec)
+    return (_laser_message if isinstance(spec, LaserSpec) else _sonar_message)(frame_id, spec)
 
 
 def fill_reading(message, reading):
@@ -41,9 +86,43 @@ def fill_reading(message, reading):
         message.range = reading
 
 
-def _laser_message(robot_name, spec):
+def robot_markers(name, radius, base_frame, marker_id):
+    """
+    Return the markers RViz shows for a robot: its footprint, its heading and its name.
+
+    They are drawn in the robot's own base frame, so RViz moves them with TF; marker_id is the
+    first of the three ids they take.
+    """
+    footprint = _marker(name, 'footprint', marker_id, base_frame, Marker.CYLINDER)
+    footprint.scale.x = footprint.scale.y = 2.0 * radius
+    footprint.scale.z = MARKER_HEIGHT
+    footprint.pose.position.z = 0.5 * MARKER_HEIGHT
+    heading = _marker(name, 'heading', marker_id + 1, base_frame, Marker.ARROW)
+    heading.scale.x, heading.scale.y, heading.scale.z = radius, 0.2 * radius, 0.2 * radius
+    heading.pose.position.z = MARKER_HEIGHT
+    heading.color.r = heading.color.g = heading.color.b = 1.0
+    label = _marker(name, 'name', marker_id + 2, base_frame, Marker.TEXT_VIEW_FACING)
+    label.text = name
+    label.scale.z = 0.25
+    label.pose.position.z = MARKER_HEIGHT + 0.3
+    return [footprint, heading, label]
+
+
+def _marker(name, namespace, marker_id, frame_id, kind):
+    marker = Marker()
+    marker.header.frame_id = frame_id
+    marker.ns, marker.id, marker.type = namespace, marker_id, kind
+    marker.action = Marker.ADD
+    marker.pose.orientation.w = 1.0
+    marker.color.r, marker.color.g, marker.color.b = ROBOT_COLOUR
+    marker.color.a = 1.0
+    marker.frame_locked = True
+    return marker
+
+
+def _laser_message(frame_id, spec):
     message = LaserScan()
-    message.header.frame_id = f'{robot_name}/{spec.frame_id}'
+    message.header.frame_id = frame_id
     message.angle_min, message.angle_max = spec.min_angle, spec.max_angle
     message.angle_increment = ((spec.max_angle - spec.min_angle) / (spec.num_rays - 1)
                                if spec.num_rays > 1 else 0.0)
@@ -52,9 +131,9 @@ def _laser_message(robot_name, spec):
     return message
 
 
-def _sonar_message(robot_name, spec):
+def _sonar_message(frame_id, spec):
     message = Range()
-    message.header.frame_id = f'{robot_name}/{spec.frame_id}'
+    message.header.frame_id = frame_id
     message.radiation_type = Range.ULTRASOUND
     message.field_of_view = spec.cone_angle
     message.min_range, message.max_range = spec.min_range, spec.max_range

@@ -8,6 +8,7 @@ from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE
 from stdr_lite.core.kinematics import INTEGRATORS
+from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import (load_robot, load_robot_list, RobotEntry,
                                               RobotFileError)
 from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
@@ -44,21 +45,47 @@ PARAMETERS = (
                   Bounds(0.0, 3600.0)),
     ParameterSpec('sensor_seed', 0, 'seed of the sensor noise, so that runs repeat',
                   NON_NEGATIVE),
-    ParameterSpec('map_frame_id', 'map', 'frame of /map', ros_name=True),
-    ParameterSpec('odom_frame_id', 'odom', 'frame of the odometry pose (REP-105); it '
-                  'coincides with the map frame', ros_name=True),
-    ParameterSpec('base_frame_id', 'base_link', 'child frame of the odometry (REP-105), '
-                  'prefixed with the robot name', ros_name=True),
+    ParameterSpec('odom_rate_hz', 0.0, 'odometry, ground truth and TF published this often '
+                  '[Hz of sim time]; 0 publishes every step. In lockstep the controller answers '
+                  'each odometry published', Bounds(0.0, 1000.0),
+                  constraints='at most rate_hz'),
+    ParameterSpec('odom_noise_distance', 0.0, 'odometry drift: std of the distance error '
+                  'after driving 1 m [m/sqrt(m)]; 0 with the two below: exact odometry',
+                  Bounds(0.0, 1.0)),
+    ParameterSpec('odom_noise_turn', 0.0, 'odometry drift: std of the heading error after '
+                  'turning 1 rad [rad/sqrt(rad)]', Bounds(0.0, 1.0)),
+    ParameterSpec('odom_noise_heading_per_distance', 0.0, 'odometry drift: std of the heading '
+                  'error after driving 1 m straight [rad/sqrt(m)]', Bounds(0.0, 1.0)),
+    ParameterSpec('odom_seed', 0, 'seed of the odometry drift, so that runs repeat',
+                  NON_NEGATIVE),
+    ParameterSpec('cmd_vel_stamped', False, 'take commands as geometry_msgs/TwistStamped (as '
+                  'Nav2 sends from Kilted on) instead of geometry_msgs/Twist'),
+    ParameterSpec('map_frame_id', 'map', 'frame of /map and of the ground truth; the root of '
+                  'the TF tree', ros_name=True),
+    ParameterSpec('odom_frame_id', 'odom', "frame of a robot's odometry (REP-105), as "
+                  '<robot>/odom', ros_name=True),
+    ParameterSpec('base_frame_id', 'base_link', 'frame of a robot body (REP-105), as '
+                  '<robot>/base_link; its sensors are <robot>/<frame_id>', ros_name=True),
 )
 
 
 @dataclass(frozen=True)
 class Frames:
-    """Frame names: the map's, the odometry's, and each robot's base (under its name)."""
+    """Frame names: the map's, and each robot's odom and base under its name (REP-105)."""
 
     map_frame: str
     odom_frame: str
     base_frame: str
+
+    def odom(self, robot):
+        return f'{robot}/{self.odom_frame}'
+
+    def base(self, robot):
+        return f'{robot}/{self.base_frame}'
+
+    @staticmethod
+    def sensor(robot, spec):
+        return f'{robot}/{spec.frame_id}'
 
 
 def frames(params):
@@ -79,9 +106,15 @@ def build_simulation(params):
         entries = _robot_entries(params, description)
     except (MapError, RobotFileError) as error:
         raise ConfigError(str(error)) from None
-    settings = SimulationSettings(**{name: params[name] for name in (
-        'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
-        'sensor_seed')})
+    require(params['odom_rate_hz'] <= params['rate_hz'],
+            f'odom_rate_hz must be at most rate_hz ({params["rate_hz"]:g}), got '
+            f'{params["odom_rate_hz"]:g}')
+    settings = SimulationSettings(
+        odometry_noise=OdometryNoise(params['odom_noise_distance'], params['odom_noise_turn'],
+                                     params['odom_noise_heading_per_distance']),
+        **{name: params[name] for name in (
+            'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
+            'sensor_seed', 'odom_rate_hz', 'odom_seed')})
     try:
         return Simulation(occupancy_map, settings, entries), description
     except (PlacementError, RequestError) as error:

@@ -1,11 +1,8 @@
 """One simulated robot's topics: what it hears and what it says, with reused messages."""
 
-import functools
-
-from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
-from simple_robot_control.pose import set_pose
-from stdr_lite.node.messages import fill_reading, sensor_message, set_stamp
+from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
 
 
 class RobotTopics:
@@ -14,36 +11,49 @@ class RobotTopics:
 
     Topics are relative (<robot>/odom, <robot>/cmd_vel, ...), so they sit under the node's
     namespace and can be remapped. Messages are built once and refilled at every publish.
+    on_command(name, linear, angular) gets every command, plain or stamped.
     """
 
-    def __init__(self, node, robot, frames, on_command, on_initial_pose):
+    def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose):
         name = robot.name
         self.name = name
         self._node = node
         self._odometry = Odometry()
-        self._odometry.header.frame_id = frames.odom_frame
-        self._odometry.child_frame_id = f'{name}/{frames.base_frame}'
+        self._odometry.header.frame_id = frames.odom(name)
+        self._odometry.child_frame_id = frames.base(name)
+        self._ground_truth = Odometry()
+        self._ground_truth.header.frame_id = frames.map_frame
+        self._ground_truth.child_frame_id = frames.base(name)
         self.odom_publisher = node.create_publisher(Odometry, f'{name}/odom', 10)
-        self._subscriptions = [
-            node.create_subscription(Twist, f'{name}/cmd_vel',
-                                     functools.partial(on_command, name), 10),
-            node.create_subscription(PoseWithCovarianceStamped, f'{name}/initialpose',
-                                     functools.partial(on_initial_pose, name), 10)]
-        self.cmd_vel_topic = self._subscriptions[0].topic_name
+        self._ground_truth_publisher = node.create_publisher(Odometry, f'{name}/ground_truth',
+                                                             10)
+        if stamped:
+            command = node.create_subscription(
+                TwistStamped, f'{name}/cmd_vel',
+                lambda message: on_command(name, message.twist.linear.x,
+                                           message.twist.angular.z), 10)
+        else:
+            command = node.create_subscription(
+                Twist, f'{name}/cmd_vel',
+                lambda message: on_command(name, message.linear.x, message.angular.z), 10)
+        self._subscriptions = [command, node.create_subscription(
+            PoseWithCovarianceStamped, f'{name}/initialpose',
+            lambda message: on_initial_pose(name, message), 10)]
+        self.cmd_vel_topic = command.topic_name
         self._sensors = {}
         for sensor in robot.sensors:
-            message = sensor_message(name, sensor.spec)
+            message = sensor_message(frames.sensor(name, sensor.spec), sensor.spec)
             publisher = node.create_publisher(type(message), f'{name}/{sensor.spec.frame_id}',
                                               10)
             self._sensors[sensor.spec.frame_id] = (publisher, message)
 
-    def publish_odometry(self, time_ns, pose, velocity):
-        """Publish the pose and the velocity applied in the last step, stamped time_ns."""
-        message = self._odometry
-        set_stamp(message.header.stamp, time_ns)
-        set_pose(message.pose.pose, *pose)
-        message.twist.twist.linear.x, message.twist.twist.angular.z = velocity
-        self.odom_publisher.publish(message)
+    def publish_odometry(self, time_ns, reading, ground_truth):
+        """Publish the odometry reading, and the ground truth when anyone listens."""
+        fill_odometry(self._odometry, time_ns, reading)
+        self.odom_publisher.publish(self._odometry)
+        if self._ground_truth_publisher.get_subscription_count():
+            fill_odometry(self._ground_truth, time_ns, ground_truth)
+            self._ground_truth_publisher.publish(self._ground_truth)
 
     def listened(self, spec):
         """Whether anyone subscribes to this sensor's topic."""
@@ -59,5 +69,6 @@ class RobotTopics:
         """Take the robot's topics off the graph."""
         for subscription in self._subscriptions:
             self._node.destroy_subscription(subscription)
-        for publisher, _ in [(self.odom_publisher, None)] + list(self._sensors.values()):
+        publishers = [self.odom_publisher, self._ground_truth_publisher]
+        for publisher in publishers + [publisher for publisher, _ in self._sensors.values()]:
             self._node.destroy_publisher(publisher)

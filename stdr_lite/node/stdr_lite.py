@@ -17,6 +17,7 @@ from std_msgs.msg import String
 from stdr_lite.core.robot_description import robot_entry, RobotFileError
 from stdr_lite.core.simulation import CommandOutcome, RequestError
 from stdr_lite.core.world import PlacementError
+from stdr_lite.node.frames import FramePublisher
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS
@@ -50,9 +51,12 @@ class StdrLite(Node):
         params = declare_parameters(self, PARAMETERS)
         self._frames = frames(params)
         self.simulation, self._default_description = build_simulation(params)
+        self._stamped = params['cmd_vel_stamped']
+        self._frame_publisher = FramePublisher(self, self._frames)
         self._topics = {}
         for name in self.simulation.names:
             self._add_topics(name)
+        self._frame_publisher.publish_fixed(self.simulation)
         self.create_subscription(String, '~/add_robot', self._on_add_robot, 10)
         self.create_subscription(String, '~/remove_robot', self._on_remove_robot, 10)
         self._clock_publisher = self.create_publisher(ClockMsg, '/clock', 10)
@@ -76,6 +80,7 @@ class StdrLite(Node):
                     0.0 if self._lockstep else params['real_time_factor'])
         if self._lockstep:
             self.create_timer(0.05, self._repeat_unanswered_state, clock=steady)
+            self.simulation.odometry_due()
             self._publish_state()
             self._await_answers()
         names = self.simulation.names
@@ -94,7 +99,7 @@ class StdrLite(Node):
 
     def _add_topics(self, name):
         self._topics[name] = RobotTopics(self, self.simulation.robot(name), self._frames,
-                                         self._on_cmd_vel, self._on_initial_pose)
+                                         self._stamped, self._on_cmd_vel, self._on_initial_pose)
 
     def _on_add_robot(self, message):
         try:
@@ -106,6 +111,7 @@ class StdrLite(Node):
             self.get_logger().warn(f'add_robot {message.data!r} refused: {reason}')
             return
         self._add_topics(entry.name)
+        self._frame_publisher.publish_fixed(self.simulation)
         self.get_logger().info(f'added {entry.name} at {entry.pose}')
 
     def _on_remove_robot(self, message):
@@ -115,6 +121,7 @@ class StdrLite(Node):
             return
         self.simulation.remove_robot(name)
         self._topics.pop(name).destroy()
+        self._frame_publisher.publish_fixed(self.simulation)
         self.get_logger().info(f'removed {name}')
         self._step_if_answered()
 
@@ -128,10 +135,9 @@ class StdrLite(Node):
             return
         self.get_logger().info(f'{name} moved to ({where})')
 
-    def _on_cmd_vel(self, name, message):
+    def _on_cmd_vel(self, name, linear, angular):
         if name not in self.simulation:
             return
-        linear, angular = message.linear.x, message.angular.z
         outcome = self.simulation.command(name, linear, angular)
         if outcome is not CommandOutcome.APPLIED:
             self.get_logger().warn(f'{name}: command ({linear:g} m/s, {angular:g} rad/s) '
@@ -141,29 +147,36 @@ class StdrLite(Node):
             self._step_if_answered()
 
     def _step_if_answered(self):
+        """Unpaced lockstep: run to the next published odometry once all have answered."""
         if self._step_on_answer and not self.simulation.awaiting_answers:
-            self._step()
+            while not self._step():
+                pass
 
     def _on_tick(self):
         if not self.simulation.awaiting_answers:
             self._step()
 
     def _step(self):
+        """Advance one step and publish what falls due; return whether odometry went out."""
         self.simulation.step()
-        self._publish_state()
+        if self._clock_publisher.get_subscription_count():
+            set_stamp(self._clock_message.clock, self.simulation.time_ns)
+            self._clock_publisher.publish(self._clock_message)
+        published = self.simulation.odometry_due()
+        if published:
+            self._publish_state()
+            if self._lockstep:
+                self._await_answers()
         self._publish_sensors()
-        if self._lockstep:
-            self._await_answers()
+        return published
 
     def _publish_state(self):
-        """Publish /clock (when anyone listens) and every robot's odometry for this step."""
+        """Publish every robot's odometry, its ground truth and the moving TF frames."""
         now_ns = self.simulation.time_ns
-        if self._clock_publisher.get_subscription_count():
-            set_stamp(self._clock_message.clock, now_ns)
-            self._clock_publisher.publish(self._clock_message)
         for name, topics in self._topics.items():
-            topics.publish_odometry(now_ns, self.simulation.pose(name),
-                                    self.simulation.applied_velocity(name))
+            topics.publish_odometry(now_ns, self.simulation.odometry(name),
+                                    self.simulation.ground_truth(name))
+        self._frame_publisher.publish_moving(self.simulation, now_ns)
 
     def _publish_sensors(self):
         """Read and publish the sensors that are due and that someone listens to."""

@@ -4,7 +4,6 @@ import sys
 import threading
 import time
 
-from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
@@ -15,6 +14,7 @@ from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.node_runtime import build_parser, declare_parameters, ParameterSpec, run
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
+from simple_robot_control.velocity import VelocityPublisher
 from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
 
 # Wall seconds the stop command at exit may take to be received.
@@ -25,6 +25,8 @@ PARAMETERS = (
                   '<name>/odom', ros_name=True),
     ParameterSpec('odom_timeout', 10.0, 'give up when no odometry arrives for this long '
                   '[s of wall time]', Bounds(0.0, 3600.0, low_open=True)),
+    ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
+                  'simulator that takes them so'),
 )
 
 DESCRIPTION = ('move_robot: drive a simulated robot by hand, as in the lab. Asks for a linear '
@@ -49,7 +51,8 @@ class MoveRobot(Node):
         self._exit_code = EXIT_OK
         self._odometry = None
         self._odometry_arrived = threading.Condition()
-        self._cmd_publisher = self.create_publisher(Twist, f'{params["robot_name"]}/cmd_vel', 10)
+        self._commands = VelocityPublisher(self, f'{params["robot_name"]}/cmd_vel',
+                                           params['cmd_vel_stamped'])
         self._odom_topic = self.create_subscription(
             Odometry, f'{params["robot_name"]}/odom', self._on_odometry, 10).topic_name
         self._session_over = threading.Event()
@@ -99,7 +102,7 @@ class MoveRobot(Node):
     def _wait_for_simulator(self):
         """Wait until the simulator subscribes to our commands, so none is lost to discovery."""
         deadline = time.monotonic() + self._odom_timeout
-        while self._cmd_publisher.get_subscription_count() == 0:
+        while self._commands.publisher.get_subscription_count() == 0:
             if time.monotonic() > deadline:
                 raise SimulatorSilent()
             time.sleep(0.01)
@@ -115,9 +118,7 @@ class MoveRobot(Node):
         start = self._next_odometry(newer_than=self._odometry)
         if duration <= 0.0:
             return start
-        command = Twist()
-        command.linear.x, command.angular.z = linear, angular
-        self._cmd_publisher.publish(command)
+        self._commands.publish(linear, angular)
         duration_ns = round(duration * 1e9)
         started_ns = _stamp_ns(start)
         odometry = start
@@ -129,7 +130,7 @@ class MoveRobot(Node):
                 started_ns = _stamp_ns(before_first_step)
         while _stamp_ns(odometry) < started_ns + duration_ns:
             odometry = self._next_odometry(newer_than=odometry)
-        self._cmd_publisher.publish(Twist())
+        self._commands.publish(0.0, 0.0)
         odometry = self._next_odometry(newer_than=odometry)
         while _is_moving(odometry):
             odometry = self._next_odometry(newer_than=odometry)
@@ -137,8 +138,8 @@ class MoveRobot(Node):
 
     def shut_down(self):
         """Leave the robot standing still: publish a stop and wait until it is received."""
-        self._cmd_publisher.publish(Twist())
-        self._cmd_publisher.wait_for_all_acked(Duration(seconds=STOP_DELIVERY))
+        self._commands.publish(0.0, 0.0)
+        self._commands.publisher.wait_for_all_acked(Duration(seconds=STOP_DELIVERY))
 
 
 def _stamp_ns(odometry):

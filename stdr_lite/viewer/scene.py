@@ -25,6 +25,7 @@ TRAIL = (120, 150, 240)
 TEXT = (20, 20, 20)
 TRAIL_LENGTH = 2000
 ARC_POINTS = 12
+CENTRE = (0.0, 0.0, 0.0)
 
 
 @dataclass
@@ -44,8 +45,16 @@ class SonarReading:
 
 
 @dataclass
+class RobotLook:
+    """A robot's radius and sensor mounts (sensor frame -> pose on the robot)."""
+
+    radius: float = 0.2
+    mounts: dict = field(default_factory=dict)
+
+
+@dataclass
 class RobotView:
-    """The latest of everything known about one robot."""
+    """The latest of everything known about where one robot is and what it senses."""
 
     pose: tuple = (0.0, 0.0, 0.0)
     trail: deque = field(default_factory=lambda: deque(maxlen=TRAIL_LENGTH))
@@ -62,12 +71,28 @@ class Scene:
     cells: np.ndarray = None
     robots: dict = field(default_factory=dict)
     status: str = ''
+    default_look: RobotLook = field(default_factory=RobotLook)
+    looks: dict = field(default_factory=dict)
 
     def set_map(self, cells, resolution, origin):
         self.cells, self.resolution, self.origin = cells, resolution, origin
 
     def robot(self, name):
         return self.robots.setdefault(name, RobotView())
+
+    def look(self, name):
+        """
+        Return the robot's look: as the simulator told it (markers, /tf_static), if it did.
+
+        Otherwise the default look, from a description file.
+        """
+        return self.looks.get(name, self.default_look)
+
+    def own_look(self, name):
+        """Return the robot's look to fill in, starting from the default one."""
+        if name not in self.looks:
+            self.looks[name] = RobotLook(self.default_look.radius, dict(self.default_look.mounts))
+        return self.looks[name]
 
     def move(self, name, pose):
         robot = self.robot(name)
@@ -128,9 +153,9 @@ class Painter:
         self._map_picture = None
         self._scaled = (None, None)
 
-    def draw(self, surface, scene, view, descriptions, extra_text=''):
+    def draw(self, surface, scene, view, extra_text=''):
         """
-        Paint the scene; descriptions(name) gives a robot's radius and sensor mounts.
+        Paint the scene onto surface.
 
         Layers go bottom up: map, sensor fills, sensor outlines, trails, robots, text; so a
         robot is never hidden under another robot's fan.
@@ -138,7 +163,7 @@ class Painter:
         surface.fill(BACKGROUND)
         self._draw_map(surface, scene, view)
         shapes = [(colours, points) for name, robot in scene.robots.items()
-                  for colours, points in self._sensor_shapes(robot, descriptions(name), view)]
+                  for colours, points in self._sensor_shapes(robot, scene.look(name), view)]
         for (fill, _), points in shapes:
             pygame.draw.polygon(surface, fill, points)
         for (_, outline), points in shapes:
@@ -148,15 +173,15 @@ class Painter:
                 pygame.draw.lines(surface, TRAIL, False,
                                   [view.to_screen(x, y) for x, y in robot.trail], 2)
         for name, robot in scene.robots.items():
-            self._draw_robot(surface, name, robot, descriptions(name).radius, view)
+            self._draw_robot(surface, name, robot, scene.look(name).radius, view)
         lines = [scene.status or 'robot_status: (nothing yet)', extra_text]
         for number, line in enumerate(line for line in lines if line):
             surface.blit(self._font.render(line, True, TEXT, BACKGROUND), (8, 8 + 20 * number))
 
-    def _sensor_shapes(self, robot, description, view):
+    def _sensor_shapes(self, robot, look, view):
         """Yield ((fill, outline), screen polygon) for each laser fan and sonar cone."""
         for frame_id, reading in robot.lasers.items():
-            x, y, heading = sensor_origin(robot.pose, _mount(description, 'lasers', frame_id))
+            x, y, heading = sensor_origin(robot.pose, look.mounts.get(frame_id, CENTRE))
             ranges = np.where(np.isfinite(reading.ranges) & (reading.ranges > 0),
                               reading.ranges, reading.range_max)
             angles = (heading + reading.angle_min
@@ -166,7 +191,7 @@ class Painter:
             if len(points) > 2:
                 yield (LASER_FILL, LASER), points
         for frame_id, reading in robot.sonars.items():
-            x, y, heading = sensor_origin(robot.pose, _mount(description, 'sonars', frame_id))
+            x, y, heading = sensor_origin(robot.pose, look.mounts.get(frame_id, CENTRE))
             reach = min(max(reading.distance, reading.min_range), reading.max_range)
             angles = heading + np.linspace(-0.5, 0.5, ARC_POINTS) * reading.field_of_view
             arc = zip(x + reach * np.cos(angles), y + reach * np.sin(angles))
@@ -200,11 +225,3 @@ class Painter:
         pygame.draw.line(surface, FREE, centre, nose, 2)
         label = self._font.render(name, True, ROBOT)
         surface.blit(label, (centre[0] + pixels + 2, centre[1] - pixels - 14))
-
-
-def _mount(description, kind, frame_id):
-    """Return the sensor's pose on the robot from its description, or the robot's centre."""
-    for spec in getattr(description, kind):
-        if spec.frame_id == frame_id:
-            return spec.pose
-    return (0.0, 0.0, 0.0)

@@ -22,13 +22,15 @@ from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
                                                ParameterSpec, run)
-from simple_robot_control.pose import pose_from_message
+from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
 from stdr_lite.viewer.pygame_quiet import pygame
-from stdr_lite.viewer.scene import LaserReading, Painter, Scene, SonarReading, View
+from stdr_lite.viewer.scene import LaserReading, Painter, RobotLook, Scene, SonarReading, View
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
 
 DISCOVERY_PERIOD = 1.0
 ZOOM_STEP = 1.2
@@ -39,7 +41,8 @@ ROBOT_TOPIC = re.compile(r'^/([A-Za-z_]\w*)/([A-Za-z_]\w*)$')
 
 PARAMETERS = (
     ParameterSpec('robot_description', '', "STDR robot YAML giving the robots' radius and "
-                  'sensor mounts; empty for the bundled lab robot'),
+                  'sensor mounts where the simulator publishes no markers and /tf_static (as '
+                  'stdr_lite does); empty for the bundled lab robot'),
     ParameterSpec('width', 1000, 'window width [pixels]', Bounds(200, 10000)),
     ParameterSpec('height', 750, 'window height [pixels]', Bounds(150, 10000)),
     ParameterSpec('fps', 30.0, 'frames drawn per second of wall time', Bounds(1.0, 120.0)),
@@ -62,8 +65,7 @@ class StdrViewer(Node):
         params = declare_parameters(self, PARAMETERS)
         size = (params['width'], params['height'])
         try:
-            self._description = load_robot(params['robot_description']
-                                           or shared_file(*BUNDLED_ROBOT))
+            description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT))
         except RobotFileError as error:
             raise ConfigError(str(error)) from None
         self._screenshot = params['screenshot']
@@ -76,7 +78,8 @@ class StdrViewer(Node):
         else:
             self._window = False
         self.surface = surface
-        self.scene = Scene()
+        self.scene = Scene(default_look=RobotLook(description.radius, {
+            spec.frame_id: spec.pose for spec in description.lasers + description.sonars}))
         self.view = View(surface.get_size())
         self._painter = Painter(pygame.font.Font(None, 22))
         self._subscribed = {}
@@ -84,6 +87,9 @@ class StdrViewer(Node):
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
+        self.create_subscription(TFMessage, '/tf_static', self._on_static_frames, latched)
+        self.create_subscription(MarkerArray, '/stdr_lite/robot_markers', self._on_markers,
+                                 latched)
         everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                                 reliability=ReliabilityPolicy.RELIABLE,
                                 durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -127,6 +133,31 @@ class StdrViewer(Node):
         self.scene.set_map(cells, message.info.resolution, (origin.x, origin.y))
         self.view.fit(self.scene.extent())
 
+    def _on_static_frames(self, message):
+        """
+        Take each robot's sensor mounts from the transforms <robot>/... -> <robot>/<sensor>.
+
+        A /tf_static message holds every static transform of its publisher, so the mounts it
+        gives a robot replace whatever the robot had.
+        """
+        mounts = {}
+        for transform in message.transforms:
+            robot, _, frame = transform.child_frame_id.partition('/')
+            if frame and transform.header.frame_id.startswith(f'{robot}/'):
+                offset = transform.transform
+                mounts.setdefault(robot, {})[frame] = (
+                    offset.translation.x, offset.translation.y,
+                    yaw_from_quaternion(offset.rotation))
+        for robot, robot_mounts in mounts.items():
+            self.scene.own_look(robot).mounts = robot_mounts
+
+    def _on_markers(self, message):
+        """Take each robot's radius from its footprint marker."""
+        for marker in message.markers:
+            if marker.ns == 'footprint' and marker.action == Marker.ADD:
+                robot = marker.header.frame_id.partition('/')[0]
+                self.scene.own_look(robot).radius = 0.5 * marker.scale.x
+
     def _on_status(self, message):
         self.scene.status = f'robot_status: {message.data}'
 
@@ -147,7 +178,7 @@ class StdrViewer(Node):
         times = self._frame_times
         times.append(time.monotonic())
         rate = (len(times) - 1) / (times[-1] - times[0]) if times[-1] > times[0] else 0.0
-        self._painter.draw(self.surface, self.scene, self.view, lambda name: self._description,
+        self._painter.draw(self.surface, self.scene, self.view,
                            f'{len(self.scene.robots)} robots, {rate:.0f} fps, '
                            f'{self.view.scale:.0f} px/m')
         return self.surface

@@ -69,7 +69,7 @@ def test_twist_moves_the_robot_by_equation_2_each_step(ros_context, executor):
         assert (dx, dy) == pytest.approx((0.016 * math.cos(theta), 0.016 * math.sin(theta)))
         assert yaw_from_quaternion(after.pose.pose.orientation) == pytest.approx(theta + 0.006)
     first = probe.odometry[0]
-    assert (first.header.frame_id, first.child_frame_id) == ('odom', 'robot0/base_link')
+    assert (first.header.frame_id, first.child_frame_id) == ('robot0/odom', 'robot0/base_link')
 
 
 def test_speeds_are_clamped_to_the_limits(ros_context, executor):

@@ -68,3 +68,29 @@ def test_fit_shows_the_whole_extent():
     for corner in ((0.0, 0.0), (20.0, 15.0)):
         column, row = view.to_screen(*corner)
         assert 0 <= column <= 800 and 0 <= row <= 600
+
+
+def test_each_robot_is_drawn_with_its_own_description(ros_context, executor, tmp_path):
+    (tmp_path / 'big.yaml').write_text(
+        'footprint: {radius: 0.5}\nsensors:\n  lasers:\n    - {frame_id: front, pose: {x: 0.3, '
+        'y: 0.1, theta: 0.5}, min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, '
+        'num_rays: 50, frequency: 10}\n')
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots:\n  - {name: small, pose: [3.0, 3.0, 0.0]}\n'
+                      '  - {name: big, description: big.yaml, pose: [10.0, 10.0, 0.0]}\n')
+    executor.add_node(StdrLite(context=ros_context,
+                               parameter_overrides=overrides(robots_file=str(robots))))
+    viewer = StdrViewer(surface=pygame.Surface((800, 600)), context=ros_context)
+    executor.add_node(viewer)
+    scene = viewer.scene
+    spin_until(executor, lambda: scene.look('big').radius == 0.5
+               and 'front' in scene.look('big').mounts and 'sonar_4' in scene.look('small').mounts,
+               what="each robot's look from its markers and /tf_static")
+    assert scene.look('big').mounts == {'front': pytest.approx((0.3, 0.1, 0.5))}
+    assert scene.look('small').radius == 0.2
+    spin_until(executor, lambda: {'small', 'big'} <= set(scene.robots), what='both robots')
+    pixels = pygame.surfarray.array3d(viewer.render_frame())
+    for name, x, y in (('small', 3.0, 3.0), ('big', 10.0, 10.0)):
+        column, row = (round(value) for value in viewer.view.to_screen(x, y + 0.35))
+        inside = tuple(pixels[column, row]) == ROBOT
+        assert inside == (name == 'big')

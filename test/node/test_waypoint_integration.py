@@ -36,10 +36,11 @@ class Recorder(Node):
                            yaw_from_quaternion(pose.orientation)))
 
 
-def run_course(ros_context, executor, course_path, timeout=60.0, **controller_params):
+def run_course(ros_context, executor, course_path, timeout=60.0, simulator_params=(),
+               **controller_params):
     """Run a course in lockstep, as fast as it goes; return the controller and the recorder."""
-    simulator = StdrLite(context=ros_context,
-                         parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
+        lockstep=True, real_time_factor=0.0, **dict(simulator_params)))
     recorder = Recorder(ros_context)
     controller_params.setdefault('use_sim_time', True)
     controller = WaypointController(str(course_path), context=ros_context,
@@ -147,3 +148,16 @@ def test_shutting_down_stops_the_robot(ros_context, executor, tmp_path):
     count = len(twists)
     spin_until(executor, lambda: len(twists) > count + 5, what='odometry after the stop')
     assert twists[-1] == 0.0
+
+
+@pytest.mark.parametrize('odom_rate_hz', [0.0, 10.0])
+def test_stamped_commands_and_slower_odometry_run_a_course(
+        ros_context, executor, tmp_path, odom_rate_hz):
+    course = tmp_path / 'course.txt'
+    course.write_text('3 2 0\n3 3 90\n')
+    controller, recorder = run_course(
+        ros_context, executor, course, cmd_vel_stamped=True,
+        simulator_params={'cmd_vel_stamped': True, 'odom_rate_hz': odom_rate_hz})
+    assert controller.finished.result() == 0
+    assert [message.split()[0] for message in recorder.status] == [
+        'STARTED', 'WAYPOINT', 'WAYPOINT', 'FINISHED']

@@ -1,0 +1,29 @@
+"""Velocity commands as a robot's cmd_vel takes them: Twist, or TwistStamped as Nav2 sends."""
+
+from geometry_msgs.msg import Twist, TwistStamped
+
+
+class VelocityPublisher:
+    """
+    Publishes (linear m/s, angular rad/s) on a cmd_vel topic as Twist or TwistStamped.
+
+    A stamped command carries the node's clock time; every other field is zero.
+    """
+
+    def __init__(self, node, topic, stamped):
+        self._node = node
+        self._stamped = stamped
+        self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, 10)
+
+    @property
+    def topic_name(self):
+        return self.publisher.topic_name
+
+    def publish(self, linear, angular):
+        twist = Twist()
+        twist.linear.x, twist.angular.z = float(linear), float(angular)
+        if self._stamped:
+            command = TwistStamped(twist=twist)
+            command.header.stamp = self._node.get_clock().now().to_msg()
+            twist = command
+        self.publisher.publish(twist)

@@ -1,0 +1,127 @@
+"""
+Wheel odometry that can drift: every robot's odometry pose, its covariance, and its noise.
+
+The model is the classic one of odometry error growing with the motion (variance proportional
+to the distance travelled and the angle turned), so it does not depend on the step rate: a
+step that moves by d metres and turns by a radians is measured as
+
+    d' = d + N(0, distance**2 * |d|)
+    a' = a + N(0, turn**2 * |a| + heading_per_distance**2 * |d|)
+
+and integrated along the arc's mean heading. The pose covariance is propagated with the same
+model (linearised), so it grows as the robot drives and says how far the odometry may be off.
+With every coefficient zero the odometry is the true pose, exactly, whatever happens to it.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class OdometryNoise:
+    """
+    The drift coefficients; zero means exact odometry.
+
+    distance: std of the distance error after driving 1 m [m / sqrt(m)]; turn: std of the
+    heading error after turning 1 rad [rad / sqrt(rad)]; heading_per_distance: std of the
+    heading error after driving 1 m straight [rad / sqrt(m)].
+    """
+
+    distance: float = 0.0
+    turn: float = 0.0
+    heading_per_distance: float = 0.0
+
+    @property
+    def enabled(self) -> bool:
+        return (self.distance, self.turn, self.heading_per_distance) != (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class OdometryReading:
+    """One robot's odometry: pose in its odom frame, measured velocity, and their spread."""
+
+    pose: tuple
+    velocity: tuple
+    pose_covariance: np.ndarray
+    velocity_variance: tuple
+
+
+class Odometry:
+    """
+    The odometry of several robots, advanced together each step from the applied velocities.
+
+    Each robot's odometry starts at its true pose (its odom frame coincides with the map at
+    first) and, when noise is on, follows its own noisy measurements from then on: a teleport
+    moves the robot, not its odometry, as carrying a real robot would.
+    """
+
+    def __init__(self, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
+        self.noise = noise
+        self._rng = np.random.default_rng(seed)
+        self.poses = np.empty((0, 3))
+        self._covariances = np.empty((0, 3, 3))
+        self._velocities = np.empty((0, 2))
+        self._variances = np.empty((0, 2))
+
+    def add_robot(self, pose: tuple) -> None:
+        self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])
+        self._covariances = np.concatenate([self._covariances, np.zeros((1, 3, 3))])
+        self._velocities = np.vstack([self._velocities, np.zeros(2)])
+        self._variances = np.vstack([self._variances, np.zeros(2)])
+
+    def remove_robot(self, index: int) -> None:
+        self.poses = np.delete(self.poses, index, axis=0)
+        self._covariances = np.delete(self._covariances, index, axis=0)
+        self._velocities = np.delete(self._velocities, index, axis=0)
+        self._variances = np.delete(self._variances, index, axis=0)
+
+    def advance(self, true_poses: np.ndarray, linear: np.ndarray, angular: np.ndarray,
+                dt: float) -> None:
+        """
+        Measure one step in which the robots drove at the given velocities.
+
+        Without noise the odometry simply takes the true poses after the step.
+        """
+        if not self.noise.enabled:
+            self.poses = np.array(true_poses, dtype=float)
+            self._velocities = np.column_stack([linear, angular])
+            return
+        distance, turn = np.asarray(linear) * dt, np.asarray(angular) * dt
+        variance_distance = self.noise.distance ** 2 * np.abs(distance)
+        variance_turn = (self.noise.turn ** 2 * np.abs(turn)
+                         + self.noise.heading_per_distance ** 2 * np.abs(distance))
+        distance = distance + np.sqrt(variance_distance) * self._rng.standard_normal(len(turn))
+        turn = turn + np.sqrt(variance_turn) * self._rng.standard_normal(len(turn))
+        self._propagate(distance, turn, variance_distance, variance_turn)
+        self._velocities = np.column_stack([distance, turn]) / dt
+        self._variances = np.column_stack([variance_distance, variance_turn]) / dt ** 2
+
+    def _propagate(self, distance, turn, variance_distance, variance_turn):
+        """Integrate the measured step along its mean heading and carry the covariance along."""
+        heading = self.poses[:, 2] + 0.5 * turn
+        cos_heading, sin_heading = np.cos(heading), np.sin(heading)
+        count = len(distance)
+        motion = np.tile(np.eye(3), (count, 1, 1))
+        motion[:, 0, 2] = -distance * sin_heading
+        motion[:, 1, 2] = distance * cos_heading
+        noise = np.zeros((count, 3, 2))
+        noise[:, 0, 0], noise[:, 1, 0] = cos_heading, sin_heading
+        noise[:, 0, 1] = -0.5 * distance * sin_heading
+        noise[:, 1, 1] = 0.5 * distance * cos_heading
+        noise[:, 2, 1] = 1.0
+        spread = np.zeros((count, 2, 2))
+        spread[:, 0, 0], spread[:, 1, 1] = variance_distance, variance_turn
+        self._covariances = (motion @ self._covariances @ motion.transpose(0, 2, 1)
+                             + noise @ spread @ noise.transpose(0, 2, 1))
+        self.poses = self.poses + np.column_stack([distance * cos_heading,
+                                                   distance * sin_heading, turn])
+        self.poses[:, 2] = np.remainder(self.poses[:, 2] + np.pi, 2.0 * np.pi) - np.pi
+
+    def reading(self, index: int) -> OdometryReading:
+        x, y, theta = self.poses[index].tolist()
+        linear, angular = self._velocities[index].tolist()
+        variance_linear, variance_angular = self._variances[index].tolist()
+        return OdometryReading((x, y, theta), (linear, angular),
+                               self._covariances[index].copy(),
+                               (variance_linear, variance_angular))

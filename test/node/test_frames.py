@@ -1,0 +1,194 @@
+"""stdr_lite on the TF tree: REP-105 frames, drifting odometry, ground truth, RViz markers."""
+
+import math
+
+from geometry_msgs.msg import Twist, TwistStamped
+from nav_msgs.msg import Odometry
+import pytest
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.time import Time
+from ros_helpers import overrides, spin_until, wait_for_subscribers
+from sensor_msgs.msg import LaserScan, Range
+from simple_robot_control.pose import compose, pose_from_message, yaw_from_quaternion
+from simple_robot_control.share import BUNDLED_ROBOT, shared_file
+from std_msgs.msg import String
+from stdr_lite.core.robot_description import load_robot
+from stdr_lite.node.stdr_lite import StdrLite
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
+
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+DRIFT = {'odom_noise_distance': 0.05, 'odom_noise_turn': 0.05,
+         'odom_noise_heading_per_distance': 0.02}
+
+
+def stamp_of(message):
+    return Time.from_msg(message.header.stamp).nanoseconds
+
+
+class Listener(Node):
+    """Answers robot0's odometry with a curve in lockstep, and keeps what it hears by stamp."""
+
+    def __init__(self, context, stamped=False, steps=60):
+        super().__init__('listener', context=context)
+        self.odometry, self.truth, self.tf, self.static = {}, {}, [], []
+        self.scans, self.ranges = [], []
+        self.answered = 0
+        self._steps = steps
+        self._command = self.create_publisher(TwistStamped if stamped else Twist,
+                                              '/robot0/cmd_vel', 10)
+        self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 100)
+        self.create_subscription(Odometry, '/robot0/ground_truth',
+                                 lambda message: self.truth.setdefault(stamp_of(message),
+                                                                       message), 100)
+        self.create_subscription(TFMessage, '/tf', self.tf.append, 100)
+        self.create_subscription(TFMessage, '/tf_static', self.static.append, LATCHED)
+        self.create_subscription(LaserScan, '/robot0/laser_0', self.scans.append, 10)
+        self.create_subscription(Range, '/robot0/sonar_3', self.ranges.append, 10)
+
+    def _on_odometry(self, message):
+        stamp = stamp_of(message)
+        if stamp in self.odometry or self.answered >= self._steps:
+            return
+        self.odometry[stamp] = message
+        twist = Twist()
+        twist.linear.x, twist.angular.z = 0.4, 0.6 * math.sin(stamp * 1e-9)
+        if isinstance(self._command.msg_type(), TwistStamped):
+            command = TwistStamped()
+            command.twist = twist
+            twist = command
+        self._command.publish(twist)
+        self.answered += 1
+
+
+def run_lockstep(ros_context, executor, stamped=False, steps=60, **params):
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
+        lockstep=True, real_time_factor=0.0, cmd_vel_stamped=stamped, **params))
+    listener = Listener(ros_context, stamped, steps)
+    executor.add_node(simulator)
+    executor.add_node(listener)
+    spin_until(executor, lambda: listener.answered >= steps, what='the answered steps')
+    spin_until(executor, lambda: len(listener.truth) >= steps and len(listener.tf) >= steps,
+               what='ground truth and TF of every step')
+    return simulator, listener
+
+
+def planar(transform):
+    """Return {(parent, child): (x, y, yaw)} of a TransformStamped."""
+    pose = (transform.transform.translation.x, transform.transform.translation.y,
+            yaw_from_quaternion(transform.transform.rotation))
+    return {(transform.header.frame_id, transform.child_frame_id): pose}
+
+
+def tree_of(tf_messages, stamp):
+    """Return {(parent, child): (x, y, yaw)} of the /tf messages with this stamp."""
+    tree = {}
+    for message in tf_messages:
+        for transform in message.transforms:
+            if Time.from_msg(transform.header.stamp).nanoseconds == stamp:
+                tree.update(planar(transform))
+    return tree
+
+
+@pytest.mark.parametrize('drift', [{}, DRIFT], ids=['exact', 'drifting'])
+def test_map_odom_base_link_is_the_ground_truth_at_every_step(ros_context, executor, drift):
+    _, listener = run_lockstep(ros_context, executor, **drift)
+    for stamp, odometry in listener.odometry.items():
+        tree = tree_of(listener.tf, stamp)
+        assert tree[('robot0/odom', 'robot0/base_link')] == pytest.approx(
+            pose_from_message(odometry.pose.pose), abs=1e-9)
+        chained = compose(tree[('map', 'robot0/odom')], tree[('robot0/odom', 'robot0/base_link')])
+        truth = pose_from_message(listener.truth[stamp].pose.pose)
+        assert chained[:2] == pytest.approx(truth[:2], abs=1e-6)
+        assert math.remainder(chained[2] - truth[2], math.tau) == pytest.approx(0.0, abs=1e-6)
+        if not drift:
+            assert tree[('map', 'robot0/odom')] == (0.0, 0.0, 0.0)
+    last = max(listener.odometry)
+    drifted = math.dist(pose_from_message(listener.odometry[last].pose.pose)[:2],
+                        pose_from_message(listener.truth[last].pose.pose)[:2])
+    assert (drifted > 1e-4) == bool(drift)
+
+
+def test_every_message_is_in_its_frame(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, steps=15)
+    spin_until(executor, lambda: listener.scans and listener.ranges, what='sensor readings')
+    assert listener.scans[0].header.frame_id == 'robot0/laser_0'
+    assert listener.ranges[0].header.frame_id == 'robot0/sonar_3'
+    odometry = next(iter(listener.odometry.values()))
+    truth = next(iter(listener.truth.values()))
+    assert (odometry.header.frame_id, odometry.child_frame_id) == ('robot0/odom',
+                                                                   'robot0/base_link')
+    assert (truth.header.frame_id, truth.child_frame_id) == ('map', 'robot0/base_link')
+    assert set(tree_of(listener.tf, stamp_of(odometry))) == {
+        ('map', 'robot0/odom'), ('robot0/odom', 'robot0/base_link')}
+
+
+def test_sensor_mounts_are_static_transforms_from_the_description(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, steps=5)
+    spin_until(executor, lambda: listener.static, what='/tf_static')
+    mounts = {}
+    for transform in listener.static[-1].transforms:
+        mounts.update(planar(transform))
+    description = load_robot(shared_file(*BUNDLED_ROBOT))
+    expected = {('robot0/base_link', f'robot0/{spec.frame_id}'): spec.pose
+                for spec in description.lasers + description.sonars}
+    assert set(mounts) == set(expected)
+    for frames, pose in expected.items():
+        assert mounts[frames] == pytest.approx(pose)
+
+
+def test_drifting_odometry_reports_a_covariance_that_grows(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, **DRIFT)
+    covariances = [listener.odometry[stamp].pose.covariance for stamp in sorted(listener.odometry)]
+    traces = [covariance[0] + covariance[7] + covariance[35] for covariance in covariances]
+    assert traces[-1] > traces[len(traces) // 2] > traces[1] > 0.0
+    last = covariances[-1]
+    assert all(last[7 * index] > 0.0 for index in range(6))
+    assert listener.odometry[max(listener.odometry)].twist.covariance[0] > 0.0
+
+
+def test_exact_odometry_has_no_spread(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, steps=10)
+    assert not any(any(message.pose.covariance) for message in listener.odometry.values())
+
+
+def test_stamped_commands_drive_the_robot(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, stamped=True, steps=30)
+    last = listener.odometry[max(listener.odometry)]
+    assert last.twist.twist.linear.x == pytest.approx(0.4)
+    assert pose_from_message(last.pose.pose)[0] > 1.2
+
+
+def test_odometry_goes_out_at_its_own_rate_and_lockstep_follows_it(ros_context, executor):
+    _, listener = run_lockstep(ros_context, executor, steps=10, odom_rate_hz=10.0)
+    stamps = sorted(listener.odometry)
+    assert {b - a for a, b in zip(stamps, stamps[1:])} == {100_000_000}
+
+
+def test_every_robot_has_markers_and_the_set_follows_the_robots(ros_context, executor, tmp_path):
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots:\n  - {pose: [2.0, 2.0, 0.0]}\n  - {name: scout, pose: [5.0, 5.0, '
+                      '0.0]}\n')
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
+        robots_file=str(robots), real_time_factor=0.0))
+    watcher = Node('watcher', context=ros_context)
+    markers = []
+    watcher.create_subscription(MarkerArray, '/stdr_lite/robot_markers', markers.append, LATCHED)
+    add = watcher.create_publisher(String, '/stdr_lite/add_robot', 10)
+    for node in (simulator, watcher):
+        executor.add_node(node)
+
+    def footprints():
+        return {(marker.header.frame_id, marker.scale.x) for marker in markers[-1].markers
+                if marker.ns == 'footprint'} if markers else set()
+
+    spin_until(executor, lambda: footprints() == {('robot0/base_link', 0.4),
+                                                  ('scout/base_link', 0.4)}, what='markers')
+    assert markers[-1].markers[0].action == Marker.DELETEALL
+    assert {marker.text for marker in markers[-1].markers if marker.ns == 'name'} == {
+        'robot0', 'scout'}
+    wait_for_subscribers(executor, add)
+    add.publish(String(data='{name: third, pose: [8.0, 8.0, 0.0]}'))
+    spin_until(executor, lambda: len(footprints()) == 3, what="the new robot's markers")
