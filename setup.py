@@ -7,8 +7,8 @@ from setuptools import find_packages, setup
 PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 # Each is started by simple_robot_control/executables.py, which names its module.
-EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'waypoint_controller', 'course_monitor',
-               'plot_run')
+EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
+               'course_monitor', 'plot_run')
 
 setup(
     name=PACKAGE_NAME,
@@ -22,6 +22,7 @@ setup(
         (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml'))),
+        (f'{SHARE}/obstacles', sorted(glob('obstacles/*.yaml'))),
         (f'{SHARE}/config', sorted(glob('config/*.yaml'))),
         (f'{SHARE}/rviz', sorted(glob('rviz/*.rviz'))),
     ],

@@ -102,7 +102,8 @@ def drive_course(course, separate_process):
             wall = time.perf_counter() - started_wall
             if watch.last != 'FINISHED':
                 raise RuntimeError(f'the course ended with {watch.last}')
-            return simulator.sim_time - started_sim, wall, np.array(simulator.answer_latencies)
+            latencies = np.array(simulator.stepper.answer_latencies)
+            return simulator.sim_time - started_sim, wall, latencies
         finally:
             if controller_process is not None:
                 if controller_process.poll() is None:
@@ -115,9 +116,9 @@ def crowded_simulation(robot_count, seed):
     simulation = Simulation(load_map(shared_file(*BUNDLED_MAP)), SimulationSettings(rate_hz=50.0))
     description = load_robot(shared_file(*BUNDLED_ROBOT))
     rng = np.random.default_rng(seed)
-    while len(simulation.names) < robot_count:
+    while len(simulation.robot_names) < robot_count:
         x, y = rng.uniform((0.0, 0.0), simulation.occupancy_map.extent)
-        entry = RobotEntry(f'robot{len(simulation.names)}', description,
+        entry = RobotEntry(f'robot{len(simulation.robot_names)}', description,
                            (x, y, rng.uniform(-np.pi, np.pi)))
         try:
             simulation.add_robot(entry)
@@ -129,7 +130,7 @@ def crowded_simulation(robot_count, seed):
 def robot_steps_per_second(robot_count, steps, seed=1):
     """Step robot_count robots with random commands in the lab room; robot-steps per second."""
     simulation, rng = crowded_simulation(robot_count, seed)
-    for name in simulation.names:
+    for name in simulation.robot_names:
         simulation.command(name, rng.uniform(-0.5, 0.5), rng.uniform(-1.0, 1.0))
     started = time.perf_counter()
     for _ in range(steps):
@@ -151,7 +152,7 @@ def node_real_time_factor(robot_count, listened, seconds=5.0):
         executor.add_node(simulator)
         if listened:
             listener = Node('listener', context=context)
-            for name in simulator.simulation.names:
+            for name in simulator.simulation.robot_names:
                 listener.create_subscription(Odometry, f'/{name}/odom', lambda _: None, 10)
             executor.add_node(listener)
         spin_until(executor, lambda: simulator.sim_time > 0.0)
@@ -186,7 +187,7 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
     Returns one figure per batch of repeated reads, so that the spread shows.
     """
     simulation, _ = crowded_simulation(robot_count, seed)
-    jobs = [(name, sensor.spec) for name in simulation.names
+    jobs = [(name, sensor.spec) for name in simulation.robot_names
             for sensor in simulation.robot(name).sensors]
     frequency = min(spec.frequency for _, spec in jobs)
     loads = []

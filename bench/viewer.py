@@ -23,9 +23,9 @@ def crowded_scene(robot_count, seed=4):
     occupancy_map = simulation.occupancy_map
     scene = Scene()
     scene.set_map(occupancy_map.cells, occupancy_map.resolution, occupancy_map.origin[:2])
-    jobs = [(name, sensor.spec) for name in simulation.names
+    jobs = [(name, sensor.spec) for name in simulation.robot_names
             for sensor in simulation.robot(name).sensors]
-    for name in simulation.names:
+    for name in simulation.robot_names:
         x, y, theta = simulation.pose(name)
         for step in range(200):
             scene.move(name, (x - 0.02 * step * math.cos(theta),
@@ -40,7 +40,7 @@ def crowded_scene(robot_count, seed=4):
         else:
             robot.sonars[spec.frame_id] = SonarReading(spec.cone_angle, spec.min_range,
                                                        spec.max_range, reading)
-    for name in simulation.names:
+    for name in simulation.robot_names:
         robot = simulation.robot(name)
         look = scene.own_look(name)
         look.radius = robot.description.radius

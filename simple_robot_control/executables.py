@@ -17,28 +17,43 @@ MODULES = {
     'stdr_lite': 'stdr_lite.node.stdr_lite',
     'stdr_viewer': 'stdr_lite.viewer.stdr_viewer',
     'move_robot': 'stdr_lite.tools.move_robot',
+    'stdr_ctl': 'stdr_lite.tools.stdr_ctl',
     'waypoint_controller': 'waypoint_controller.waypoint_controller',
     'course_monitor': 'waypoint_controller.course_monitor',
     'plot_run': 'waypoint_controller.plot_run',
 }
 
 
+def _end_at_once(signal_number, frame):
+    os._exit(0)
+
+
 def _leave_quietly(signal_number, frame):
     raise SystemExit(0)
+
+
+def _handle_signals(handler):
+    for signal_number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signal_number, handler)
 
 
 def start(name):
     """
     Run the executable name: signals first, then its module's main(), then exit at once.
 
+    While modules load, a signal ends the process on the spot: an exception raised inside a
+    compiled extension's initialisation (matplotlib's, numpy's) comes out as an ImportError
+    with a traceback, and nothing has been opened yet that needs closing.
+
     When main() is over, the node is destroyed, its context shut down, its files closed and its
     last words said: the interpreter's own teardown of numpy, scipy, pygame and rclpy objects
     would add a third of a second or more on a loaded machine, so the process ends there.
     """
-    for signal_number in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signal_number, _leave_quietly)
+    _handle_signals(_end_at_once)
+    module = importlib.import_module(MODULES[name])
+    _handle_signals(_leave_quietly)
     try:
-        code = importlib.import_module(MODULES[name]).main()
+        code = module.main()
     except SystemExit as ending:
         code = ending.code
     sys.stdout.flush()
@@ -49,6 +64,7 @@ def start(name):
 stdr_lite = partial(start, 'stdr_lite')
 stdr_viewer = partial(start, 'stdr_viewer')
 move_robot = partial(start, 'move_robot')
+stdr_ctl = partial(start, 'stdr_ctl')
 waypoint_controller = partial(start, 'waypoint_controller')
 course_monitor = partial(start, 'course_monitor')
 plot_run = partial(start, 'plot_run')

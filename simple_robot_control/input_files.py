@@ -59,10 +59,14 @@ def read_yaml(path, what, error_type):
     the line where the YAML breaks, and what the file was meant to be.
     """
     path = os.fspath(path)
-    text = read_text(path, what, error_type)
+    return parse_yaml(read_text(path, what, error_type), path, what, error_type)
+
+
+def parse_yaml(text, source, what, error_type):
+    """Return the parsed YAML text; error_type names source and the line where it breaks."""
     try:
         return yaml.load(text, Loader=_Loader)
     except yaml.YAMLError as error:
         mark = getattr(error, 'problem_mark', None)
         line = f':{mark.line + 1}' if mark is not None else ''
-        raise error_type(f'{path}{line}: {what} is not valid YAML') from None
+        raise error_type(f'{source}{line}: {what} is not valid YAML') from None

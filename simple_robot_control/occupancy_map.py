@@ -27,6 +27,14 @@ class MapError(ValueError):
     """A map that cannot be loaded; the message is one line naming the file and the problem."""
 
 
+class MapImageError(MapError):
+    """A map whose image is missing, unreadable or empty."""
+
+
+class MapTooLargeError(MapImageError):
+    """A map whose image holds more cells than the simulator takes."""
+
+
 @dataclass(frozen=True)
 class OccupancyMap:
     """An occupancy grid: row 0 is the bottom of the image, as in nav_msgs/OccupancyGrid."""
@@ -139,22 +147,24 @@ def _read_image(image_path):
     The image's size is read from its header and judged before any pixel is decoded, so a
     compressed file that would unpack to gigabytes is refused in a moment.
     """
-    check_file(image_path, 'map image', MapError, MAX_IMAGE_BYTES)
+    check_file(image_path, 'map image', MapImageError, MAX_IMAGE_BYTES)
+    too_large = f'(at most {MAX_CELLS:,} cells, e.g. 4096x4096)'
     try:
         with Image.open(image_path) as image:
             width, height = image.size
             if width * height > MAX_CELLS:
-                raise MapError(f'{image_path}: map image of {width}x{height} pixels is too large '
-                               f'(at most {MAX_CELLS:,} cells, e.g. 4096x4096)')
+                raise MapTooLargeError(f'{image_path}: map image of {width}x{height} pixels is '
+                                       f'too large {too_large}')
             image.load()
             has_alpha = image.mode in ('RGBA', 'LA', 'PA') or 'transparency' in image.info
             rgba = np.asarray(image.convert('RGBA'), dtype=float)
+    except MapTooLargeError:
+        raise
     except Image.DecompressionBombError:
-        raise MapError(f'{image_path}: map image is too large (at most {MAX_CELLS:,} cells, '
-                       'e.g. 4096x4096)') from None
+        raise MapTooLargeError(f'{image_path}: map image is too large {too_large}') from None
     except (OSError, SyntaxError, ValueError) as error:
-        raise MapError(f'{image_path}: cannot read map image: {error}') from None
+        raise MapImageError(f'{image_path}: cannot read map image: {error}') from None
     if rgba.shape[0] == 0 or rgba.shape[1] == 0:
-        raise MapError(f'{image_path}: map image is empty')
+        raise MapImageError(f'{image_path}: map image is empty')
     pixels = rgba[..., :3].mean(axis=2)
     return pixels, (rgba[..., 3] if has_alpha else None)

@@ -46,3 +46,24 @@ def invert(transform: tuple) -> tuple:
     x, y, theta = transform
     cos_theta, sin_theta = math.cos(theta), math.sin(theta)
     return (-cos_theta * x - sin_theta * y, sin_theta * x - cos_theta * y, -theta)
+
+
+def planar_pose(pose, tolerance: float = 1e-6) -> tuple:
+    """
+    Return (x, y, yaw) of a geometry_msgs Pose; ValueError says why it is no planar pose.
+
+    The orientation must be a finite, non-zero quaternion turning about z only (it is
+    normalised); z is not used, the world being a plane.
+    """
+    position, orientation = pose.position, pose.orientation
+    values = (position.x, position.y, position.z, orientation.x, orientation.y, orientation.z,
+              orientation.w)
+    if not all(map(math.isfinite, values)):
+        raise ValueError('the pose holds a value that is not finite')
+    norm = math.sqrt(sum(value * value for value in values[3:]))
+    if norm < tolerance:
+        raise ValueError('the orientation is a zero quaternion')
+    if abs(orientation.x) / norm > tolerance or abs(orientation.y) / norm > tolerance:
+        raise ValueError('the orientation turns about x or y; the world is a plane')
+    yaw = math.remainder(2.0 * math.atan2(orientation.z / norm, orientation.w / norm), math.tau)
+    return position.x, position.y, yaw

@@ -1,5 +1,8 @@
 """Helpers that write small map_server maps for tests."""
 
+import struct
+import zlib
+
 import numpy as np
 from PIL import Image
 import yaml
@@ -26,3 +29,12 @@ def walled_room(width_cells, height_cells, wall_cells=1):
     pixels[:, :wall_cells] = 0
     pixels[:, -wall_cells:] = 0
     return pixels
+
+
+def png_header(width, height):
+    """Return a PNG that declares a size in its header but holds no pixels."""
+    def chunk(kind, data):
+        return (struct.pack('>I', len(data)) + kind + data
+                + struct.pack('>I', zlib.crc32(kind + data)))
+    header = struct.pack('>IIBBBBB', width, height, 8, 0, 0, 0, 0)
+    return b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', header) + chunk(b'IEND', b'')

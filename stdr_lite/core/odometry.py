@@ -58,11 +58,15 @@ class Odometry:
 
     def __init__(self, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
         self.noise = noise
-        self._rng = np.random.default_rng(seed)
+        self.reseed(seed)
         self.poses = np.empty((0, 3))
         self._covariances = np.empty((0, 3, 3))
         self._velocities = np.empty((0, 2))
         self._variances = np.empty((0, 2))
+
+    def reseed(self, seed: int) -> None:
+        """Start the noise over, so a run from here repeats a run from the start."""
+        self._rng = np.random.default_rng(seed)
 
     def add_robot(self, pose: tuple) -> None:
         self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])

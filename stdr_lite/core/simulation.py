@@ -1,14 +1,15 @@
 """
-The simulation: robots by name in one world, stepped at a fixed rate. No ROS here.
+The simulation: robots and obstacles by name in one world, stepped at a fixed rate. No ROS here.
 
-Everything kept per robot (pose and radius in the World, the held command, the velocity last
-applied, the sensors' schedule) is added, removed and renumbered here in one place, so those
-structures never fall out of step. The stdr_lite node only turns messages into calls of this
-class and its results into messages; tests and benchmarks drive it directly.
+Everything kept per entity (pose and radius in the World, the held command, the velocity last
+applied, an obstacle's motion, the odometry, the sensors' schedule) is added, removed and
+renumbered here in one place, so those structures never fall out of step. Every request is
+checked whole before anything changes: a refusal raises and leaves the simulation as it was.
+The stdr_lite node only turns messages into calls of this class and its results into
+messages; tests and benchmarks drive it directly.
 """
 
 from contextlib import contextmanager
-from dataclasses import dataclass, field
 import enum
 import math
 from typing import Iterable
@@ -16,20 +17,19 @@ from typing import Iterable
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import compose, invert
-from simple_robot_control.validation import compact, ros_name_problem
+from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
 from stdr_lite.core.commands import CommandBuffer
-from stdr_lite.core.odometry import Odometry, OdometryNoise, OdometryReading
-from stdr_lite.core.robot_description import RobotDescription, RobotEntry
+from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
+                                     PeriodicSchedule, RequestError, sensors_of,
+                                     SimulatedEntity, SimulationSettings)
+from stdr_lite.core.motion import motion_for
+from stdr_lite.core.odometry import Odometry, OdometryReading
+from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.sensors import RangeFinder, read_sensors
 from stdr_lite.core.world import PlacementError, World
 
-NANOSECONDS = 1_000_000_000
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
-
-
-class RequestError(ValueError):
-    """A request the simulation refuses (a name taken or unknown); nothing was changed."""
 
 
 class CommandOutcome(enum.Enum):
@@ -40,60 +40,14 @@ class CommandOutcome(enum.Enum):
     IGNORED = 'ignored: not finite'
 
 
-@dataclass(frozen=True)
-class SimulationSettings:
-    """How the world is stepped and measured; SI units. odom_rate_hz 0 is every step."""
-
-    rate_hz: float = 50.0
-    integrator: str = 'euler'
-    max_linear_speed: float = 2.0
-    max_angular_speed: float = math.pi
-    cmd_vel_timeout: float = 0.0
-    sensor_seed: int = 0
-    odom_rate_hz: float = 0.0
-    odometry_noise: OdometryNoise = OdometryNoise()
-    odom_seed: int = 0
-
-
-class PeriodicSchedule:
-    """Falls due once per period of sim time, from first_due_ns on, whatever the step rate."""
-
-    def __init__(self, period_ns: int, first_due_ns: int):
-        self.period_ns = period_ns
-        self.next_due_ns = first_due_ns
-
-    def due(self, now_ns: int) -> bool:
-        """Whether the schedule falls due at now_ns; if so, it moves on to the next period."""
-        if now_ns < self.next_due_ns:
-            return False
-        self.next_due_ns += self.period_ns * (1 + (now_ns - self.next_due_ns) // self.period_ns)
-        return True
-
-
-@dataclass
-class ScheduledSensor:
-    """A laser or sonar and when it next reads."""
-
-    spec: object
-    schedule: PeriodicSchedule
-
-
-@dataclass
-class SimulatedRobot:
-    """What the simulation knows of a robot besides its state arrays."""
-
-    name: str
-    description: RobotDescription
-    sensors: list = field(default_factory=list)
-
-
 class Simulation:
     """
-    Unicycle robots in one map, stepped together every dt = 1/rate_hz simulated seconds.
+    Unicycle robots and circular obstacles in one map, stepped together every dt = 1/rate_hz.
 
     Each robot holds its last valid command until the next (as STDR does), or stops once the
-    command is older than cmd_vel_timeout when that is positive. For lockstep runs the
-    simulation also keeps which robots have answered the latest state with a command.
+    command is older than cmd_vel_timeout when that is positive; a moving obstacle keeps the
+    velocity it was given. For lockstep runs, answers keeps which robots have answered the
+    latest odometry with a command.
     """
 
     def __init__(self, occupancy_map: OccupancyMap,
@@ -102,26 +56,39 @@ class Simulation:
         robots = list(robots)
         self.settings = settings
         self.dt_ns = round(NANOSECONDS / settings.rate_hz)
-        largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius for entry in robots])
-        self.world = World(occupancy_map, largest, settings.integrator)
-        self._finder = RangeFinder(occupancy_map)
-        self._noise = np.random.default_rng(settings.sensor_seed)
-        self._commands = CommandBuffer(0, settings.max_linear_speed, settings.max_angular_speed,
-                                       settings.cmd_vel_timeout)
-        self._applied = (np.zeros(0), np.zeros(0))
-        self._odometry = Odometry(settings.odometry_noise, settings.odom_seed)
-        odometry_period = (self.dt_ns if settings.odom_rate_hz <= 0.0
-                           else round(NANOSECONDS / settings.odom_rate_hz))
-        self._odometry_schedule = PeriodicSchedule(odometry_period, 0)
-        self._robots = []
-        self._indices = {}
-        self._unanswered = set()
-        self.step_count = 0
+        self._odometry_period_ns = (self.dt_ns if settings.odom_rate_hz <= 0.0
+                                    else round(NANOSECONDS / settings.odom_rate_hz))
+        self._entities, self._indices = [], {}
+        self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
+                                                      for entry in robots])
+        self._build(occupancy_map)
+        self._restart_time()
         for entry in robots:
             try:
                 self.add_robot(entry)
             except (PlacementError, RequestError) as error:
                 raise type(error)(f'{entry.name} in {occupancy_map.source}: {error}') from None
+
+    def _build(self, occupancy_map):
+        self.world = World(occupancy_map, self._largest, self.settings.integrator)
+        self._finder = RangeFinder(occupancy_map)
+        self._commands = CommandBuffer(0, self.settings.max_linear_speed,
+                                       self.settings.max_angular_speed,
+                                       self.settings.cmd_vel_timeout)
+        self._applied = (np.zeros(0), np.zeros(0))
+        self._odometry = Odometry(self.settings.odometry_noise, self.settings.odom_seed)
+        # A moving obstacle's speed, turn rate and direction of travel (NaN: none).
+        self._motion = np.empty((0, 3))
+
+    def _restart_time(self):
+        self.step_count = 0
+        self._noise = np.random.default_rng(self.settings.sensor_seed)
+        self._odometry.reseed(self.settings.odom_seed)
+        self._odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
+        self.answers = Answers()
+        for entity in self._entities:
+            for sensor in entity.sensors:
+                sensor.restart(0)
 
     @property
     def occupancy_map(self) -> OccupancyMap:
@@ -144,17 +111,36 @@ class Simulation:
 
     @property
     def names(self) -> list[str]:
-        """Return the robots' names, in the order they were added."""
-        return [robot.name for robot in self._robots]
+        """Return every entity's name, in the order they were added."""
+        return [entity.name for entity in self._entities]
+
+    @property
+    def robot_names(self) -> list[str]:
+        return [entity.name for entity in self._entities if entity.is_robot]
+
+    @property
+    def obstacle_names(self) -> list[str]:
+        return [entity.name for entity in self._entities if not entity.is_robot]
+
+    @property
+    def obstacles_moving(self) -> bool:
+        """Whether any obstacle has a velocity, so its pose changes from step to step."""
+        return bool(np.any(self._motion[:, :2] != 0.0))
 
     def __contains__(self, name: str) -> bool:
         return name in self._indices
 
-    def robot(self, name: str) -> SimulatedRobot:
-        return self._robots[self._index(name)]
+    def entity(self, name: str) -> SimulatedEntity:
+        return self._entities[self._index(name)]
+
+    def robot(self, name: str) -> SimulatedEntity:
+        entity = self.entity(name)
+        if not entity.is_robot:
+            raise RequestError(f'{name} is a {entity.category.value}, not a robot')
+        return entity
 
     def pose(self, name: str) -> tuple[float, float, float]:
-        """Return the robot's (x, y, theta) in the map frame."""
+        """Return the entity's (x, y, theta) in the map frame."""
         x, y, theta = self.world.poses[self._index(name)].tolist()
         return x, y, theta
 
@@ -163,55 +149,86 @@ class Simulation:
         index = self._index(name)
         return float(self._applied[0][index]), float(self._applied[1][index])
 
-    def default_name(self) -> str:
-        """Return robot<K> with the smallest K not taken."""
-        return next(f'robot{k}' for k in range(len(self._robots) + 1)
-                    if f'robot{k}' not in self._indices)
+    def velocity(self, name: str) -> tuple[float, float, float]:
+        """Return the (x, y, angular) velocity of the last step in the map frame."""
+        index = self._index(name)
+        linear, angular = self.applied_velocity(name)
+        heading = self._motion[index, 2]
+        if math.isnan(heading):
+            heading = float(self.world.poses[index, 2])
+        return linear * math.cos(heading), linear * math.sin(heading), angular
 
-    def add_robot(self, entry: RobotEntry) -> None:
-        """
-        Place a robot with its description at its pose.
+    def default_name(self, prefix: str = 'robot') -> str:
+        """Return <prefix><K> with the smallest K not taken."""
+        return next(f'{prefix}{k}' for k in range(len(self._entities) + 1)
+                    if f'{prefix}{k}' not in self._indices)
 
-        Raises RequestError for a bad or taken name and PlacementError for a pose off the map,
-        in a wall or on another robot; either way nothing changes.
+    def add_robot(self, entry: RobotEntry, spawned: bool = False, namespace: str = '') -> None:
         """
-        problem = ros_name_problem(entry.name, 'a robot name')
-        if problem is not None:
-            raise RequestError(problem)
-        if entry.name in self._indices:
-            raise RequestError(f'a robot named {entry.name} exists already')
+        Place a robot with its description at its pose; its topics go under namespace.
+
+        Raises RequestError for a bad or taken name or namespace, or sensors faster than the
+        steps, and PlacementError for a pose off the map, in a wall or on another entity;
+        either way nothing changes.
+        """
+        self._check_new_name(entry.name)
+        namespace = namespace.strip('/') or entry.name
+        if not all(is_ros_name(token) for token in namespace.split('/')):
+            raise NamespaceError(f'namespace {namespace!r} is not a ROS namespace')
+        taken = [entity.name for entity in self._entities if entity.namespace == namespace]
+        if taken:
+            raise NamespaceError(f'namespace {namespace} is taken by {taken[0]}')
         for spec in entry.description.lasers + entry.description.sonars:
             if spec.frequency > self.settings.rate_hz:
                 raise RequestError(f'sensor {spec.frame_id} reads at {compact(spec.frequency)} '
                                    f'Hz, faster than the simulation steps (rate_hz '
                                    f'{compact(self.settings.rate_hz)})')
+        self._append(SimulatedEntity(entry.name, Category.ROBOT, entry.description.radius,
+                                     entry.pose, spawned, entry.description, namespace,
+                                     sensors_of(entry.description, self.time_ns)))
+
+    def add_obstacle(self, name: str, radius: float, pose: tuple, moving: bool = False,
+                     spawned: bool = True) -> None:
+        """Place a circular obstacle, one that stays put or one that can be set moving."""
+        self._check_new_name(name)
+        if not 0.0 < radius <= self._largest:
+            raise RequestError(f'an obstacle radius must be in (0, {compact(self._largest)}] m, '
+                               f'got {compact(radius)}')
+        category = Category.MOVING_OBSTACLE if moving else Category.STATIC_OBSTACLE
+        self._append(SimulatedEntity(name, category, float(radius), tuple(pose), spawned))
+
+    def _check_new_name(self, name):
+        problem = ros_name_problem(name, 'a name')
+        if problem is not None:
+            raise RequestError(problem)
+        if name in self._indices:
+            raise RequestError(f'an entity named {name} exists already')
+
+    def _append(self, entity):
         with self._naming_overlaps():
-            self.world.add_robot(entry.pose, entry.description.radius)
+            self.world.add_robot(entity.start_pose, entity.radius)
         self._commands.add_robot()
         self._applied = tuple(np.append(values, 0.0) for values in self._applied)
-        self._odometry.add_robot(entry.pose)
-        sensors = []
-        for spec in entry.description.lasers + entry.description.sonars:
-            period_ns = round(NANOSECONDS / spec.frequency)
-            sensors.append(ScheduledSensor(spec, PeriodicSchedule(period_ns,
-                                                                  self.time_ns + period_ns)))
-        self._robots.append(SimulatedRobot(entry.name, entry.description, sensors))
+        self._odometry.add_robot(entity.start_pose)
+        self._motion = np.vstack([self._motion, [0.0, 0.0, np.nan]])
+        self._entities.append(entity)
         self._renumber()
 
-    def remove_robot(self, name: str) -> None:
-        """Take a robot out; the robots after it move down one index."""
+    def remove(self, name: str) -> None:
+        """Take an entity out; the entities after it move down one index."""
         index = self._index(name)
         self.world.remove_robot(index)
         self._commands.remove_robot(index)
         self._applied = tuple(np.delete(values, index) for values in self._applied)
         self._odometry.remove_robot(index)
-        del self._robots[index]
-        self._unanswered.discard(name)
+        self._motion = np.delete(self._motion, index, axis=0)
+        del self._entities[index]
+        self.answers.answer(name)
         self._renumber()
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
         """
-        Move a robot to pose, or raise PlacementError and leave it where it is.
+        Move an entity to pose, or raise PlacementError and leave it where it is.
 
         Drifting odometry does not notice (the robot was carried): map -> odom takes the jump.
         """
@@ -221,20 +238,92 @@ class Simulation:
 
     def command(self, name: str, linear: float, angular: float) -> CommandOutcome:
         """Hold (linear m/s, angular rad/s) for the robot from now on, clamped to the limits."""
-        index = self._index(name)
+        index = self._index(self.robot(name).name)
         if not (math.isfinite(linear) and math.isfinite(angular)):
             return CommandOutcome.IGNORED
         clamped = self._commands.exceeds_limits(linear, angular)
         self._commands.update(index, linear, angular, self.sim_time)
         return CommandOutcome.CLAMPED if clamped else CommandOutcome.APPLIED
 
+    def set_velocity(self, name: str, x: float, y: float, angular: float) -> None:
+        """
+        Set an entity moving at (x, y) m/s in the map frame while turning at angular rad/s.
+
+        A robot takes it as a command (along its heading only); a moving obstacle keeps it
+        until told otherwise; a static obstacle takes none but zero. RequestError otherwise.
+        """
+        self.set_state(name, self.pose(name), (x, y, angular))
+
+    def set_state(self, name: str, pose: tuple, velocity: tuple) -> None:
+        """Teleport an entity and set its velocity (as set_velocity), both or neither."""
+        entity, index = self.entity(name), self._index(name)
+        motion = motion_for(entity.category, pose[2], *velocity, self.settings)
+        self.teleport(name, pose)
+        if entity.is_robot:
+            self.command(name, motion.linear, motion.angular)
+        else:
+            self._motion[index] = (motion.linear, motion.angular,
+                                   np.nan if motion.heading is None else motion.heading)
+
     def step(self) -> None:
-        """Advance every robot by dt under its held command."""
+        """Advance every entity by dt: robots under their held commands, obstacles as set."""
         linear, angular = self._commands.current(self.sim_time)
-        self._applied = self.world.step(linear, angular, self.dt)
+        sliding = ~np.isnan(self._motion[:, 2])
+        headings = None
+        if sliding.any():
+            linear = np.where(sliding, self._motion[:, 0], linear)
+            angular = np.where(sliding, self._motion[:, 1], angular)
+            headings = self._motion[:, 2]
+        self._applied = self.world.step(linear, angular, self.dt, headings)
         if self._odometry.noise.enabled:
             self._odometry.advance(self.world.poses, *self._applied, self.dt)
         self.step_count += 1
+
+    def reset(self, time: bool = True, state: bool = True, spawned: bool = True) -> None:
+        """
+        Reset the simulation in part or whole, as if started again.
+
+        spawned removes the entities added while running; state puts every other entity back
+        at its start pose, standing still, with its odometry restarted; time restarts the
+        clock, the schedules and the noise, so a run from here repeats the first. A state
+        whose start poses now overlap raises PlacementError, and nothing changes.
+        """
+        keep = [entity for entity in self._entities if not (spawned and entity.spawned)]
+        if state:
+            self._rebuild(self.world.map, keep)
+        else:
+            for entity in [entity for entity in self._entities if entity not in keep]:
+                self.remove(entity.name)
+        if time:
+            self._restart_time()
+
+    def load_map(self, occupancy_map: OccupancyMap) -> None:
+        """
+        Replace the map, as a standard LoadWorld does.
+
+        Spawned entities go, the others return to their start poses, and time restarts.
+        PlacementError if one of them does not fit there; nothing changes then.
+        """
+        self._rebuild(occupancy_map, [entity for entity in self._entities if not entity.spawned])
+        self._restart_time()
+
+    def _rebuild(self, occupancy_map, entities):
+        """Put entities at their start poses in a world of this map, all or none of them."""
+        trial = World(occupancy_map, self._largest, self.settings.integrator)
+        for entity in entities:
+            try:
+                trial.add_robot(entity.start_pose, entity.radius)
+            except PlacementError as error:
+                reason = str(error)
+                if error.overlapped is not None:
+                    reason = reason.replace(f'robot {error.overlapped}',
+                                            entities[error.overlapped].name)
+                raise PlacementError(f'{entity.name} cannot stand at its start pose: '
+                                     f'{reason}') from None
+        self._build(occupancy_map)
+        self._entities, self._indices = [], {}
+        for entity in entities:
+            self._append(entity)
 
     def odometry_due(self) -> bool:
         """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
@@ -273,8 +362,8 @@ class Simulation:
         Each sensor is due once per period of sim time; its schedule moves on whether or not
         the caller then reads it, so an unread sensor costs nothing.
         """
-        return [(robot.name, sensor.spec) for robot in self._robots for sensor in robot.sensors
-                if sensor.schedule.due(self.time_ns)]
+        return [(entity.name, sensor.spec) for entity in self._entities
+                for sensor in entity.sensors if sensor.schedule.due(self.time_ns)]
 
     def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
@@ -283,37 +372,25 @@ class Simulation:
 
     def expect_answers(self) -> None:
         """Lockstep: from now on, wait for a command from every robot before stepping."""
-        self._unanswered = set(self._indices)
-
-    def answer(self, name: str) -> bool:
-        """Lockstep: note that the robot answered; return whether its answer was awaited."""
-        if name not in self._unanswered:
-            return False
-        self._unanswered.discard(name)
-        return True
-
-    @property
-    def awaiting_answers(self) -> bool:
-        """Lockstep: whether some robot has not answered the latest state yet."""
-        return bool(self._unanswered)
+        self.answers.expect(self.robot_names)
 
     def _index(self, name: str) -> int:
         try:
             return self._indices[name]
         except KeyError:
-            raise RequestError(f'no robot named {name!r}') from None
+            raise RequestError(f'no entity named {name!r}') from None
 
     @contextmanager
     def _naming_overlaps(self):
-        """Name the robot in the way, where the World can only number it."""
+        """Name the entity in the way, where the World can only number it."""
         try:
             yield
         except PlacementError as error:
             if error.overlapped is None:
                 raise
-            other = self._robots[error.overlapped].name
+            other = self._entities[error.overlapped].name
             raise PlacementError(str(error).replace(f'robot {error.overlapped}', other),
                                  overlapped=error.overlapped) from None
 
     def _renumber(self) -> None:
-        self._indices = {robot.name: index for index, robot in enumerate(self._robots)}
+        self._indices = {entity.name: index for index, entity in enumerate(self._entities)}

@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.collision import FootprintChecker
-from stdr_lite.core.kinematics import INTEGRATORS
+from stdr_lite.core.kinematics import INTEGRATORS, wrap_angle
 
 # Sampling the path at a quarter cell bounds the depth by which a footprint could clip a
 # corner between two samples to spacing**2 / (8 * radius): 0.1 mm for the defaults.
@@ -92,18 +92,29 @@ class World:
         self.poses = np.delete(self.poses, index, axis=0)
         self.radii = np.delete(self.radii, index)
 
-    def step(self, linear: ArrayLike, angular: ArrayLike,
-             dt: float) -> tuple[np.ndarray, np.ndarray]:
+    def step(self, linear: ArrayLike, angular: ArrayLike, dt: float,
+             travel_headings: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
         """
-        Advance every robot by dt under its (linear, angular) command.
+        Advance every body by dt under its (linear, angular) velocity.
 
-        Returns the velocities actually applied, which are zero for a blocked robot.
+        A robot drives at linear along its heading while turning at angular (a unicycle). A
+        body with a travel heading (NaN for none) slides at linear along that fixed world
+        direction while spinning at angular on the spot, as a moving obstacle does.
+        Returns the velocities actually applied, which are zero for a blocked body.
         """
         linear = np.asarray(linear, dtype=float)
         angular = np.asarray(angular, dtype=float)
         x, y, theta = self.poses.T
-        moves = ~self._blocked(x, y, theta, linear, angular, dt)
-        new_poses = np.column_stack(self._advance(x, y, theta, linear, angular, dt))
+        heading, turn = theta, angular
+        if travel_headings is not None:
+            sliding = ~np.isnan(np.asarray(travel_headings, dtype=float))
+            heading = np.where(sliding, travel_headings, theta)
+            turn = np.where(sliding, 0.0, angular)
+        moves = ~self._blocked(x, y, heading, linear, turn, dt)
+        new_x, new_y, new_theta = self._advance(x, y, heading, linear, turn, dt)
+        if travel_headings is not None:
+            new_theta = np.where(sliding, wrap_angle(theta + angular * dt), new_theta)
+        new_poses = np.column_stack([new_x, new_y, new_theta])
         moves &= ~self._moving_into_robots(new_poses, moves & (linear != 0.0), dt)
         self.poses = np.where(moves[:, None], new_poses, self.poses)
         return np.where(moves, linear, 0.0), np.where(moves, angular, 0.0)

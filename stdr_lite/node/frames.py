@@ -1,14 +1,17 @@
 """
-The robots on the TF tree (REP-105), and the markers that show them in RViz.
+The robots on the TF tree (REP-105), and the markers that show robots and obstacles in RViz.
 
-For every robot r: map -> r/odom -> r/base_link on /tf with each odometry, and
-r/base_link -> r/<sensor> on /tf_static from its description. map -> r/odom is what makes the
+For every robot r (its topic namespace, which is its name unless spawned with another):
+map -> r/odom -> r/base_link on /tf with each odometry, and r/base_link -> r/<sensor> on
+/tf_static from its description. map -> r/odom is what makes the
 chain end at the true pose, as a perfect localiser would publish it: the identity while the
-odometry is exact.
+odometry is exact. Obstacles have no frames; their markers stand in the map frame.
 """
 
+from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from stdr_lite.node.messages import robot_markers, transform
+from stdr_lite.core.entities import Category
+from stdr_lite.node.messages import obstacle_markers, robot_markers, transform
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -17,16 +20,47 @@ from visualization_msgs.msg import Marker, MarkerArray
 TF_QOS = QoSProfile(depth=100)
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# The sensor mounts and the markers go out at most this often (wall seconds): each message
+# holds every entity, so a burst of 1000 spawns or a crowd of moving obstacles costs one
+# message per period, not one per change.
+SHOW_PERIOD = 0.05
 
 
 class FramePublisher:
-    """Publishes the TF tree of a simulation's robots and their markers."""
+    """Publishes the TF tree of a simulation's robots, and the markers of every entity."""
 
-    def __init__(self, node, frames):
-        self._frames = frames
+    def __init__(self, node, frames, simulation):
+        self._frames, self._simulation = frames, simulation
         self._dynamic = node.create_publisher(TFMessage, '/tf', TF_QOS)
         self._static = node.create_publisher(TFMessage, '/tf_static', LATCHED)
         self._markers = node.create_publisher(MarkerArray, '~/robot_markers', LATCHED)
+        self._obstacles = node.create_publisher(MarkerArray, '~/obstacle_markers', LATCHED)
+        self._entities_changed = self._obstacles_moved = False
+        self._timer = node.create_timer(SHOW_PERIOD, self._show,
+                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._timer.cancel()
+
+    def entities_changed(self):
+        """Publish the mounts and every marker anew soon: entities came, went or moved."""
+        self._entities_changed = True
+        self._show_soon()
+
+    def obstacles_moved(self):
+        """Publish the obstacle markers anew soon."""
+        self._obstacles_moved = True
+        self._show_soon()
+
+    def _show_soon(self):
+        if self._timer.is_canceled():
+            self._timer.reset()
+
+    def _show(self):
+        self._timer.cancel()
+        if self._entities_changed:
+            self._publish_fixed(self._simulation)
+        if self._entities_changed or self._obstacles_moved:
+            self._publish_obstacles(self._simulation)
+        self._entities_changed = self._obstacles_moved = False
 
     def publish_moving(self, simulation, time_ns):
         """Publish map -> r/odom -> r/base_link for every robot, when anyone listens."""
@@ -34,23 +68,35 @@ class FramePublisher:
             return
         frames = self._frames
         transforms = []
-        for name in simulation.names:
-            transforms.append(transform(time_ns, frames.map_frame, frames.odom(name),
+        for name in simulation.robot_names:
+            prefix = simulation.entity(name).namespace
+            transforms.append(transform(time_ns, frames.map_frame, frames.odom(prefix),
                                         simulation.map_to_odom(name)))
-            transforms.append(transform(time_ns, frames.odom(name), frames.base(name),
+            transforms.append(transform(time_ns, frames.odom(prefix), frames.base(prefix),
                                         simulation.odometry(name).pose))
         self._dynamic.publish(TFMessage(transforms=transforms))
 
-    def publish_fixed(self, simulation):
+    def _publish_fixed(self, simulation):
         """Publish the sensor mounts and the markers of the robots there are now."""
         frames, time_ns = self._frames, simulation.time_ns
         transforms, markers = [], [Marker(action=Marker.DELETEALL)]
-        for index, name in enumerate(simulation.names):
+        for index, name in enumerate(simulation.robot_names):
             robot = simulation.robot(name)
             for sensor in robot.sensors:
-                transforms.append(transform(time_ns, frames.base(name),
-                                            frames.sensor(name, sensor.spec), sensor.spec.pose))
-            markers += robot_markers(name, robot.description.radius, frames.base(name),
-                                     3 * index)
+                transforms.append(transform(time_ns, frames.base(robot.namespace),
+                                            frames.sensor(robot.namespace, sensor.spec),
+                                            sensor.spec.pose))
+            markers += robot_markers(name, robot.description.radius,
+                                     frames.base(robot.namespace), 3 * index)
         self._static.publish(TFMessage(transforms=transforms))
         self._markers.publish(MarkerArray(markers=markers))
+
+    def _publish_obstacles(self, simulation):
+        """Publish every obstacle's markers where it stands now (latched, for late viewers)."""
+        markers = [Marker(action=Marker.DELETEALL)]
+        for index, name in enumerate(simulation.obstacle_names):
+            entity = simulation.entity(name)
+            markers += obstacle_markers(name, entity.radius, simulation.pose(name),
+                                        entity.category is Category.MOVING_OBSTACLE,
+                                        self._frames.map_frame, 2 * index)
+        self._obstacles.publish(MarkerArray(markers=markers))

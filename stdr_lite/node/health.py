@@ -16,8 +16,9 @@ TOPICS_PER_CHECK = 100
 class HealthWatch:
     """Checks, once a second of wall time, the pace and the publishers of every cmd_vel."""
 
-    def __init__(self, node, simulation, topics, real_time_factor):
+    def __init__(self, node, simulation, topics, real_time_factor, playing):
         self._node = node
+        self._playing = playing
         self._simulation = simulation
         self._topics = topics
         self._target = real_time_factor
@@ -35,7 +36,7 @@ class HealthWatch:
         now, sim_time = time.monotonic(), self._simulation.sim_time
         achieved = (sim_time - self._since[1]) / max(now - self._since[0], 1e-9)
         self._since = (now, sim_time)
-        if self._target > 0.0 and achieved < BEHIND * self._target:
+        if self._target > 0.0 and self._playing() and achieved < BEHIND * self._target:
             self._node.get_logger().warn(
                 f'running at {achieved:.2f}x real time, behind real_time_factor '
                 f'{self._target:g} with {len(self._simulation.names)} robots: this machine '

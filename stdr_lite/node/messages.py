@@ -13,6 +13,10 @@ NANOSECONDS = 1_000_000_000
 # invert the covariance get a matrix they can invert.
 NEAR_CERTAIN = 1e-9
 ROBOT_COLOUR = (0.12, 0.31, 0.86)
+OBSTACLE_COLOURS = {False: (0.45, 0.45, 0.45), True: (0.93, 0.55, 0.13)}
+OBSTACLE_HEIGHT = 0.5
+# The marker namespace of an obstacle's body, by whether it can move.
+OBSTACLE_KINDS = {False: 'static_obstacle', True: 'moving_obstacle'}
 MARKER_HEIGHT = 0.1
 # Places of x, y and yaw in a 6x6 covariance (x, y, z, roll, pitch, yaw).
 PLANAR = (0, 1, 5)
@@ -108,13 +112,35 @@ def robot_markers(name, radius, base_frame, marker_id):
     return [footprint, heading, label]
 
 
-def _marker(name, namespace, marker_id, frame_id, kind):
+def obstacle_markers(name, radius, pose, moving, map_frame, marker_id):
+    """
+    Return the markers of an obstacle: a cylinder (grey, or orange if it can move) and its name.
+
+    Obstacles have no frames: the markers stand at the obstacle's pose in the map frame, and
+    are published again whenever an obstacle moves. marker_id is the first of the two ids.
+    """
+    body = _marker(name, OBSTACLE_KINDS[moving], marker_id, map_frame, Marker.CYLINDER,
+                   OBSTACLE_COLOURS[moving])
+    body.scale.x = body.scale.y = 2.0 * radius
+    body.scale.z = OBSTACLE_HEIGHT
+    set_pose(body.pose, *pose)
+    body.pose.position.z = 0.5 * OBSTACLE_HEIGHT
+    label = _marker(name, 'obstacle_name', marker_id + 1, map_frame, Marker.TEXT_VIEW_FACING,
+                    OBSTACLE_COLOURS[moving])
+    label.text = name
+    label.scale.z = 0.25
+    set_pose(label.pose, *pose)
+    label.pose.position.z = OBSTACLE_HEIGHT + 0.2
+    return [body, label]
+
+
+def _marker(name, namespace, marker_id, frame_id, kind, colour=ROBOT_COLOUR):
     marker = Marker()
     marker.header.frame_id = frame_id
     marker.ns, marker.id, marker.type = namespace, marker_id, kind
     marker.action = Marker.ADD
     marker.pose.orientation.w = 1.0
-    marker.color.r, marker.color.g, marker.color.b = ROBOT_COLOUR
+    marker.color.r, marker.color.g, marker.color.b = colour
     marker.color.a = 1.0
     marker.frame_locked = True
     return marker

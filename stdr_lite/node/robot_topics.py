@@ -10,40 +10,42 @@ class RobotTopics:
     The publishers and subscriptions of one robot, named as STDR names them.
 
     Topics are relative (<robot>/odom, <robot>/cmd_vel, ...), so they sit under the node's
-    namespace and can be remapped. Messages are built once and refilled at every publish.
-    on_command(name, linear, angular) gets every command, plain or stamped.
+    namespace and can be remapped; <robot> is the robot's topic namespace (its name unless it
+    was spawned with another), which prefixes its frames too. Messages are built once and
+    refilled at every publish. on_command(name, linear, angular) gets every command, plain or
+    stamped.
     """
 
     def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose):
-        name = robot.name
+        name, prefix = robot.name, robot.namespace
         self.name = name
         self._node = node
         self._odometry = Odometry()
-        self._odometry.header.frame_id = frames.odom(name)
-        self._odometry.child_frame_id = frames.base(name)
+        self._odometry.header.frame_id = frames.odom(prefix)
+        self._odometry.child_frame_id = frames.base(prefix)
         self._ground_truth = Odometry()
         self._ground_truth.header.frame_id = frames.map_frame
-        self._ground_truth.child_frame_id = frames.base(name)
-        self.odom_publisher = node.create_publisher(Odometry, f'{name}/odom', 10)
-        self._ground_truth_publisher = node.create_publisher(Odometry, f'{name}/ground_truth',
+        self._ground_truth.child_frame_id = frames.base(prefix)
+        self.odom_publisher = node.create_publisher(Odometry, f'{prefix}/odom', 10)
+        self._ground_truth_publisher = node.create_publisher(Odometry, f'{prefix}/ground_truth',
                                                              10)
         if stamped:
             command = node.create_subscription(
-                TwistStamped, f'{name}/cmd_vel',
+                TwistStamped, f'{prefix}/cmd_vel',
                 lambda message: on_command(name, message.twist.linear.x,
                                            message.twist.angular.z), 10)
         else:
             command = node.create_subscription(
-                Twist, f'{name}/cmd_vel',
+                Twist, f'{prefix}/cmd_vel',
                 lambda message: on_command(name, message.linear.x, message.angular.z), 10)
         self._subscriptions = [command, node.create_subscription(
-            PoseWithCovarianceStamped, f'{name}/initialpose',
+            PoseWithCovarianceStamped, f'{prefix}/initialpose',
             lambda message: on_initial_pose(name, message), 10)]
         self.cmd_vel_topic = command.topic_name
         self._sensors = {}
         for sensor in robot.sensors:
-            message = sensor_message(frames.sensor(name, sensor.spec), sensor.spec)
-            publisher = node.create_publisher(type(message), f'{name}/{sensor.spec.frame_id}',
+            message = sensor_message(frames.sensor(prefix, sensor.spec), sensor.spec)
+            publisher = node.create_publisher(type(message), f'{prefix}/{sensor.spec.frame_id}',
                                               10)
             self._sensors[sensor.spec.frame_id] = (publisher, message)
 

@@ -3,7 +3,7 @@ What stdr_viewer draws, and how: a scene (map, robots, sensor readings, status) 
 
 No ROS here: the viewer node fills the scene from topics, and draw() paints it onto any
 pygame Surface, a window or an offscreen one alike. Colours follow the lab text's figure:
-black walls, blue robots, red laser fans, green sonar cones.
+black walls, blue robots, red laser fans, green sonar cones; obstacles grey, orange if moving.
 """
 
 from collections import deque
@@ -22,6 +22,8 @@ LASER_FILL = (255, 215, 215)
 SONAR = (30, 170, 60)
 SONAR_FILL = (205, 240, 210)
 TRAIL = (120, 150, 240)
+OBSTACLE = (110, 110, 110)
+MOVING_OBSTACLE = (235, 140, 30)
 TEXT = (20, 20, 20)
 TRAIL_LENGTH = 2000
 ARC_POINTS = 12
@@ -63,8 +65,18 @@ class RobotView:
 
 
 @dataclass
+class ObstacleView:
+    """An obstacle where the simulator last showed it."""
+
+    x: float
+    y: float
+    radius: float
+    moving: bool
+
+
+@dataclass
 class Scene:
-    """The map as grey levels (row 0 at the bottom) and every robot, by name."""
+    """The map as grey levels (row 0 at the bottom), every robot and every obstacle, by name."""
 
     resolution: float = 0.05
     origin: tuple = (0.0, 0.0)
@@ -73,6 +85,7 @@ class Scene:
     status: str = ''
     default_look: RobotLook = field(default_factory=RobotLook)
     looks: dict = field(default_factory=dict)
+    obstacles: dict = field(default_factory=dict)
 
     def set_map(self, cells, resolution, origin):
         self.cells, self.resolution, self.origin = cells, resolution, origin
@@ -157,11 +170,15 @@ class Painter:
         """
         Paint the scene onto surface.
 
-        Layers go bottom up: map, sensor fills, sensor outlines, trails, robots, text; so a
-        robot is never hidden under another robot's fan.
+        Layers go bottom up: map, obstacles, sensor fills, sensor outlines, trails, robots,
+        text; so a robot is never hidden under another robot's fan.
         """
         surface.fill(BACKGROUND)
         self._draw_map(surface, scene, view)
+        for obstacle in scene.obstacles.values():
+            pygame.draw.circle(surface, MOVING_OBSTACLE if obstacle.moving else OBSTACLE,
+                               view.to_screen(obstacle.x, obstacle.y),
+                               max(2, round(obstacle.radius * view.scale)))
         shapes = [(colours, points) for name, robot in scene.robots.items()
                   for colours, points in self._sensor_shapes(robot, scene.look(name), view)]
         for (fill, _), points in shapes:

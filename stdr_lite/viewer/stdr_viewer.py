@@ -28,7 +28,8 @@ from simple_robot_control.validation import Bounds
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
 from stdr_lite.viewer.pygame_quiet import pygame
-from stdr_lite.viewer.scene import LaserReading, Painter, RobotLook, Scene, SonarReading, View
+from stdr_lite.viewer.scene import (LaserReading, ObstacleView, Painter, RobotLook, Scene,
+                                    SonarReading, View)
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -37,7 +38,11 @@ ZOOM_STEP = 1.2
 FRAME_TIMES = 30
 TOPIC_KINDS = {'nav_msgs/msg/Odometry': 'odom', 'sensor_msgs/msg/LaserScan': 'laser',
                'sensor_msgs/msg/Range': 'sonar'}
-ROBOT_TOPIC = re.compile(r'^/([A-Za-z_]\w*)/([A-Za-z_]\w*)$')
+# The marker namespaces of obstacle bodies on /stdr_lite/obstacle_markers, and whether each
+# kind can move.
+OBSTACLE_MARKERS = {'static_obstacle': False, 'moving_obstacle': True}
+# /<robot>/<topic>, where <robot> may be a nested namespace (team_a/scout).
+ROBOT_TOPIC = re.compile(r'^/((?:[A-Za-z_]\w*/)*[A-Za-z_]\w*)/([A-Za-z_]\w*)$')
 
 PARAMETERS = (
     ParameterSpec('robot_description', '', "STDR robot YAML giving the robots' radius and "
@@ -90,6 +95,8 @@ class StdrViewer(Node):
         self.create_subscription(TFMessage, '/tf_static', self._on_static_frames, latched)
         self.create_subscription(MarkerArray, '/stdr_lite/robot_markers', self._on_markers,
                                  latched)
+        self.create_subscription(MarkerArray, '/stdr_lite/obstacle_markers',
+                                 self._on_obstacle_markers, latched)
         everything = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                                 reliability=ReliabilityPolicy.RELIABLE,
                                 durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -142,8 +149,8 @@ class StdrViewer(Node):
         """
         mounts = {}
         for transform in message.transforms:
-            robot, _, frame = transform.child_frame_id.partition('/')
-            if frame and transform.header.frame_id.startswith(f'{robot}/'):
+            robot, _, frame = transform.child_frame_id.rpartition('/')
+            if robot and transform.header.frame_id.startswith(f'{robot}/'):
                 offset = transform.transform
                 mounts.setdefault(robot, {})[frame] = (
                     offset.translation.x, offset.translation.y,
@@ -155,8 +162,16 @@ class StdrViewer(Node):
         """Take each robot's radius from its footprint marker."""
         for marker in message.markers:
             if marker.ns == 'footprint' and marker.action == Marker.ADD:
-                robot = marker.header.frame_id.partition('/')[0]
+                robot = marker.header.frame_id.rpartition('/')[0]
                 self.scene.own_look(robot).radius = 0.5 * marker.scale.x
+
+    def _on_obstacle_markers(self, message):
+        """Take every obstacle from its body marker; each message holds all of them."""
+        self.scene.obstacles = {
+            marker.id: ObstacleView(marker.pose.position.x, marker.pose.position.y,
+                                    0.5 * marker.scale.x, OBSTACLE_MARKERS[marker.ns])
+            for marker in message.markers
+            if marker.ns in OBSTACLE_MARKERS and marker.action == Marker.ADD}
 
     def _on_status(self, message):
         self.scene.status = f'robot_status: {message.data}'

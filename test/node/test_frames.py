@@ -8,11 +8,11 @@ import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
-from ros_helpers import overrides, spin_until, wait_for_subscribers
+from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_until
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.pose import compose, pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
-from std_msgs.msg import String
+from simulation_interfaces.srv import SpawnEntity
 from stdr_lite.core.robot_description import load_robot
 from stdr_lite.node.stdr_lite import StdrLite
 from tf2_msgs.msg import TFMessage
@@ -176,7 +176,9 @@ def test_every_robot_has_markers_and_the_set_follows_the_robots(ros_context, exe
     watcher = Node('watcher', context=ros_context)
     markers = []
     watcher.create_subscription(MarkerArray, '/stdr_lite/robot_markers', markers.append, LATCHED)
-    add = watcher.create_publisher(String, '/stdr_lite/add_robot', 10)
+    obstacles = []
+    watcher.create_subscription(MarkerArray, '/stdr_lite/obstacle_markers', obstacles.append,
+                                LATCHED)
     for node in (simulator, watcher):
         executor.add_node(node)
 
@@ -189,6 +191,15 @@ def test_every_robot_has_markers_and_the_set_follows_the_robots(ros_context, exe
     assert markers[-1].markers[0].action == Marker.DELETEALL
     assert {marker.text for marker in markers[-1].markers if marker.ns == 'name'} == {
         'robot0', 'scout'}
-    wait_for_subscribers(executor, add)
-    add.publish(String(data='{name: third, pose: [8.0, 8.0, 0.0]}'))
+    call = ServiceCaller(executor, watcher)
+    call(SpawnEntity, 'spawn_entity', name='third', uri='lab_robot',
+         initial_pose=pose_stamped(8.0, 8.0))
     spin_until(executor, lambda: len(footprints()) == 3, what="the new robot's markers")
+    call(SpawnEntity, 'spawn_entity', name='rock', uri='obstacle',
+         initial_pose=pose_stamped(6.0, 8.0))
+    spin_until(executor, lambda: obstacles and len(obstacles[-1].markers) == 3,
+               what="the obstacle's markers")
+    body = obstacles[-1].markers[1]
+    assert (body.ns, body.header.frame_id) == ('static_obstacle', 'map')
+    assert (body.pose.position.x, body.pose.position.y) == (6.0, 8.0)
+    assert len(footprints()) == 3

@@ -2,7 +2,6 @@
 
 import functools
 import math
-import time
 
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from nav_msgs.msg import OccupancyGrid, Odometry
@@ -10,12 +9,14 @@ import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
-from ros_helpers import overrides, spin_until, wait_for_subscribers
+from ros_helpers import (overrides, pose_stamped, ServiceCaller, spin_for, spin_until,
+                         wait_for_subscribers)
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import yaw_from_quaternion
-from std_msgs.msg import String
+from simulation_interfaces.msg import Result
+from simulation_interfaces.srv import DeleteEntity, SpawnEntity
 from stdr_lite.node.stdr_lite import StdrLite
 
 
@@ -114,12 +115,6 @@ def test_clock_advances_one_step_at_a_time(ros_context, executor):
 
 def stamps(messages):
     return [Time.from_msg(message.header.stamp).nanoseconds for message in messages]
-
-
-def spin_for(executor, seconds):
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        executor.spin_once(timeout_sec=0.01)
 
 
 def test_lockstep_holds_time_until_the_odometry_is_answered(ros_context, executor):
@@ -240,20 +235,14 @@ def test_robot_list_teleport_and_refusal(ros_context, executor, tmp_path):
 
 def test_robots_come_and_go_while_running(ros_context, executor):
     simulator, probe = start(ros_context, executor)
-    add = probe.create_publisher(String, '/stdr_lite/add_robot', 10)
-    remove = probe.create_publisher(String, '/stdr_lite/remove_robot', 10)
+    call = ServiceCaller(executor, probe)
     latest = latest_poses(probe, ['scout'])
-    wait_for_subscribers(executor, add)
-    add.publish(String(data='{name: scout, pose: [5.0, 5.0, 0.5]}'))
+    spawned = call(SpawnEntity, 'spawn_entity', name='scout', uri='lab_robot',
+                   initial_pose=pose_stamped(5.0, 5.0, 0.5))
+    assert (spawned.result.result, spawned.entity_name) == (Result.RESULT_OK, 'scout')
     spin_until(executor, lambda: 'scout' in latest, what="the new robot's odometry")
     assert latest['scout'] == pytest.approx((5.0, 5.0, 0.5))
-    add.publish(String(data='{name: ghost, pose: [5.1, 5.0, 0.0]}'))
-    add.publish(String(data='{pose: [8.0, 8.0, 0.0]}'))
-    spin_until(executor, lambda: probe.count_publishers('/robot1/odom') == 1,
-               what='robot1, named by default')
-    assert probe.count_publishers('/ghost/odom') == 0
-    wait_for_subscribers(executor, remove)
-    remove.publish(String(data='scout'))
+    assert call(DeleteEntity, 'delete_entity', entity='scout').result.result == Result.RESULT_OK
     spin_until(executor, lambda: probe.count_publishers('/scout/odom') == 0,
                what='the removal')
     assert probe.count_publishers('/robot0/odom') == 1
@@ -278,23 +267,3 @@ def test_laser_and_sonars_are_published_with_their_frames(ros_context, executor)
     assert sonar.header.frame_id == 'robot0/sonar_0'
     assert sonar.radiation_type == Range.ULTRASOUND
     assert sonar.range == pytest.approx(3.0 - 0.15 - 0.35, abs=0.1)
-
-
-@pytest.mark.parametrize('request_text', [
-    '{name: robé, pose: [5.0, 5.0, 0.0]}',
-    '{name: fast, pose: [5.0, 5.0, 0.0], description: FAST}',
-    '{name: far, pose: [1e300, 5.0, 0.0]}',
-    '[not, a, mapping]',
-])
-def test_no_request_crashes_the_simulator(ros_context, executor, tmp_path, request_text):
-    fast = tmp_path / 'fast.yaml'
-    fast.write_text('footprint: {radius: 0.2}\nsensors:\n  lasers:\n    - {frame_id: laser_0, '
-                    'min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, num_rays: 5, '
-                    'frequency: 1e12}\n')
-    simulator, probe = start(ros_context, executor)
-    add = probe.create_publisher(String, '/stdr_lite/add_robot', 10)
-    wait_for_subscribers(executor, add)
-    add.publish(String(data=request_text.replace('FAST', str(fast))))
-    count = len(probe.odometry)
-    spin_until(executor, lambda: len(probe.odometry) > count + 50, what='steps after the request')
-    assert simulator.simulation.names == ['robot0']

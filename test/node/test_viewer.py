@@ -6,10 +6,12 @@ import os
 import numpy as np
 from PIL import Image
 import pytest
-from ros_helpers import overrides, spin_until
+from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_until
+from simulation_interfaces.msg import EntityState
+from simulation_interfaces.srv import SetEntityState, SpawnEntity
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.viewer.pygame_quiet import pygame
-from stdr_lite.viewer.scene import LASER, ROBOT, SONAR, View, WALL
+from stdr_lite.viewer.scene import LASER, MOVING_OBSTACLE, OBSTACLE, ROBOT, SONAR, View, WALL
 from stdr_lite.viewer.stdr_viewer import StdrViewer
 
 os.environ['SDL_VIDEODRIVER'] = 'dummy'
@@ -88,9 +90,33 @@ def test_each_robot_is_drawn_with_its_own_description(ros_context, executor, tmp
                what="each robot's look from its markers and /tf_static")
     assert scene.look('big').mounts == {'front': pytest.approx((0.3, 0.1, 0.5))}
     assert scene.look('small').radius == 0.2
-    spin_until(executor, lambda: {'small', 'big'} <= set(scene.robots), what='both robots')
+    spin_until(executor, lambda: {'small', 'big'} <= set(scene.robots)
+               and scene.cells is not None, what='both robots and the map')
     pixels = pygame.surfarray.array3d(viewer.render_frame())
     for name, x, y in (('small', 3.0, 3.0), ('big', 10.0, 10.0)):
         column, row = (round(value) for value in viewer.view.to_screen(x, y + 0.35))
         inside = tuple(pixels[column, row]) == ROBOT
         assert inside == (name == 'big')
+
+
+def test_obstacles_are_drawn_where_they_are(ros_context, executor):
+    executor.add_node(StdrLite(context=ros_context,
+                               parameter_overrides=overrides(real_time_factor=5.0)))
+    viewer = StdrViewer(surface=pygame.Surface((800, 600)), context=ros_context)
+    executor.add_node(viewer)
+    call = ServiceCaller(executor, viewer)
+    call(SpawnEntity, 'spawn_entity', name='rock', uri='obstacle',
+         initial_pose=pose_stamped(6.0, 6.0))
+    call(SpawnEntity, 'spawn_entity', name='ball', uri='moving_obstacle',
+         initial_pose=pose_stamped(12.0, 6.0))
+    moving = EntityState(pose=pose_stamped(12.0, 6.0).pose)
+    moving.twist.linear.y = 1.0
+    call(SetEntityState, 'set_entity_state', entity='ball', state=moving)
+    scene = viewer.scene
+    spin_until(executor, lambda: scene.cells is not None and len(scene.obstacles) == 2 and any(
+        obstacle.y > 7.0 for obstacle in scene.obstacles.values()), what='the ball rolling')
+    pixels = pygame.surfarray.array3d(viewer.render_frame())
+    for obstacle in scene.obstacles.values():
+        column, row = (round(value) for value in viewer.view.to_screen(obstacle.x, obstacle.y))
+        assert tuple(pixels[column, row]) == (MOVING_OBSTACLE if obstacle.moving else OBSTACLE)
+    assert sorted(obstacle.moving for obstacle in scene.obstacles.values()) == [False, True]

@@ -3,20 +3,10 @@
 import json
 import os
 from pathlib import Path
-import struct
-import zlib
 
+from map_fixtures import png_header
 from processes import run
 import pytest
-
-
-def png_header(width, height):
-    """Return a PNG that declares a size in its header but holds no pixels."""
-    def chunk(kind, data):
-        return (struct.pack('>I', len(data)) + kind + data
-                + struct.pack('>I', zlib.crc32(kind + data)))
-    header = struct.pack('>IIBBBBB', width, height, 8, 0, 0, 0, 0)
-    return b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', header) + chunk(b'IEND', b'')
 
 
 @pytest.fixture

@@ -15,6 +15,29 @@ BUILD = REPOSITORY / 'scripts' / 'build_interfaces.sh'
 UPSTREAM_HASHES = {
     'tf2_msgs/msg/TFMessage':
         'RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087',
+    'simulation_interfaces/srv/SpawnEntity':
+        'RIHS01_d4c086345d4194a5fc4c9ae45095736ca4062b5cdac4d06a42dec93d683e03cf',
+    'simulation_interfaces/srv/StepSimulation':
+        'RIHS01_913fe0653690ce6bf8f09f316e6a626747012e9fca31e26719910d417aa8565c',
+    'simulation_interfaces/srv/SetSimulationState':
+        'RIHS01_a868b916dce49974f637ba252141258c4b07b0c06858b88af560e3eb6bfbcb30',
+    'simulation_interfaces/msg/EntityState':
+        'RIHS01_2e0464a85eb80a939025075d6c20761eca6a4cb9d6baf2c0ba373467c8b598d0',
+    'simulation_interfaces/action/SimulateSteps':
+        'RIHS01_f0837c898e1219cd73bf4c041feab41e8c533e8e1057e982744dba7b093467eb',
+}
+# The Jazzy release of simulation_interfaces (1.5.1): every definition, by kind.
+SIMULATION_INTERFACES = {
+    'msg': ['Bounds', 'EntityCategory', 'EntityFilters', 'EntityInfo', 'EntityState',
+            'NamedPose', 'Resource', 'Result', 'SimulationState', 'SimulatorFeatures',
+            'SpawnEntity', 'SpawnResult', 'Spawnable', 'TagsFilter', 'WorldResource'],
+    'srv': ['DeleteEntity', 'GetAvailableWorlds', 'GetCurrentWorld', 'GetEntities',
+            'GetEntitiesStates', 'GetEntityBounds', 'GetEntityInfo', 'GetEntityState',
+            'GetNamedPoseBounds', 'GetNamedPoses', 'GetSimulationState', 'GetSimulatorFeatures',
+            'GetSpawnables', 'LoadWorld', 'ResetSimulation', 'SetEntityInfo', 'SetEntityState',
+            'SetSimulationState', 'SpawnEntities', 'SpawnEntity', 'StepSimulation',
+            'UnloadWorld'],
+    'action': ['SimulateSteps'],
 }
 
 
@@ -32,6 +55,17 @@ def test_built_types_hash_as_upstream(interface):
     description = json.loads((share_of(package) / kind / f'{name}.json').read_text())
     hashes = {entry['type_name']: entry['hash_string'] for entry in description['type_hashes']}
     assert hashes[interface] == UPSTREAM_HASHES[interface]
+
+
+@pytest.mark.parametrize('kind', SIMULATION_INTERFACES)
+def test_every_simulation_interface_is_built(kind):
+    """Each definition of the release, and no other, is written, built and importable."""
+    sources = REPOSITORY / 'interfaces' / 'simulation_interfaces' / kind
+    assert sorted(path.stem for path in sources.iterdir()) == SIMULATION_INTERFACES[kind]
+    module = __import__(f'simulation_interfaces.{kind}', fromlist=['*'])
+    for name in SIMULATION_INTERFACES[kind]:
+        assert (share_of('simulation_interfaces') / kind / f'{name}.json').is_file()
+        assert hasattr(module, name)
 
 
 def run_build(interfaces):

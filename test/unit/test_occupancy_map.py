@@ -1,9 +1,6 @@
 """Loading map_server maps: every YAML field, and a clear error for each kind of bad file."""
 
-import struct
-import zlib
-
-from map_fixtures import walled_room, write_map
+from map_fixtures import png_header, walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import FREE, load_map, MapError, OCCUPIED, UNKNOWN
@@ -113,15 +110,6 @@ def test_bad_map_files_raise_one_line_errors_naming_the_file(tmp_path, case):
 def test_missing_yaml_file_is_named(tmp_path):
     with pytest.raises(MapError, match='nothing.yaml: cannot read map file'):
         load_map(tmp_path / 'nothing.yaml')
-
-
-def png_header(width, height):
-    """Return a PNG that declares a size in its header but holds no pixels."""
-    def chunk(kind, data):
-        return (struct.pack('>I', len(data)) + kind + data
-                + struct.pack('>I', zlib.crc32(kind + data)))
-    header = struct.pack('>IIBBBBB', width, height, 8, 0, 0, 0, 0)
-    return b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', header) + chunk(b'IEND', b'')
 
 
 @pytest.mark.parametrize('side', [5000, 14000])

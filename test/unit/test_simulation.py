@@ -30,7 +30,7 @@ def robot(name, x, y=2.0, theta=0.0, description=PLAIN):
 def test_robots_are_known_by_name_and_keep_their_state_when_others_leave(room):
     simulation = Simulation(room, robots=[robot('a', 2.0), robot('b', 4.0), robot('c', 6.0)])
     simulation.command('c', 0.5, 0.0)
-    simulation.remove_robot('a')
+    simulation.remove('a')
     assert simulation.names == ['b', 'c']
     simulation.step()
     assert simulation.pose('b') == (4.0, 2.0, 0.0)
@@ -44,7 +44,7 @@ def test_robots_are_known_by_name_and_keep_their_state_when_others_leave(room):
     (robot('b', 2.3), PlacementError, 'overlaps a'),
     (robot('b', 0.1), PlacementError, 'touches a wall'),
     (robot('b', 40.0), PlacementError, 'off the map'),
-    (robot('a', 8.0), RequestError, 'exists already'),
+    (robot('a', 8.0), RequestError, 'an entity named a exists already'),
     (robot('robé', 8.0), RequestError, 'must be a ROS name'),
     (robot('b', 8.0, description=RobotDescription(0.2, (0, 0, 0),
                                                   (replace(LASER, frequency=80.0),))),
@@ -71,9 +71,9 @@ def test_teleport_is_refused_whole_onto_another_robot(room):
 
 def test_unknown_names_are_request_errors(room):
     simulation = Simulation(room)
-    for call in (lambda: simulation.remove_robot('x'), lambda: simulation.pose('x'),
+    for call in (lambda: simulation.remove('x'), lambda: simulation.pose('x'),
                  lambda: simulation.command('x', 0.0, 0.0)):
-        with pytest.raises(RequestError, match="no robot named 'x'"):
+        with pytest.raises(RequestError, match="no entity named 'x'"):
             call()
 
 
@@ -120,11 +120,103 @@ def test_readings_see_walls_and_other_robots(room):
     assert sonar == pytest.approx(3.5 - 0.2 - 2.1, abs=1e-6)
 
 
-def test_lockstep_waits_for_every_robot_once(room):
+def test_lockstep_waits_for_every_robot_once_and_never_for_an_obstacle(room):
     simulation = Simulation(room, robots=[robot('a', 2.0), robot('b', 5.0)])
-    assert not simulation.awaiting_answers
+    simulation.add_obstacle('rock', 0.3, (8.0, 2.0, 0.0))
+    assert not simulation.answers.awaiting
     simulation.expect_answers()
-    assert simulation.answer('a') and simulation.awaiting_answers
-    assert not simulation.answer('a')
-    simulation.remove_robot('b')
-    assert not simulation.awaiting_answers
+    assert simulation.answers.answer('a') and simulation.answers.awaiting
+    assert not simulation.answers.answer('a')
+    simulation.remove('b')
+    assert not simulation.answers.awaiting
+
+
+def test_obstacles_block_robots_and_are_seen_by_sensors(room):
+    simulation = Simulation(room, robots=[robot('a', 2.0, description=SENSING)])
+    simulation.add_obstacle('rock', 0.3, (3.0, 2.0, 0.0))
+    scan, _ = simulation.read_sensors([('a', LASER), ('a', SONAR)])
+    assert scan[2] == pytest.approx(3.0 - 0.3 - 2.1, abs=1e-6)
+    simulation.command('a', 1.0, 0.0)
+    for _ in range(100):
+        simulation.step()
+    assert simulation.pose('a')[0] == pytest.approx(2.5, abs=0.03)
+    assert simulation.pose('rock') == (3.0, 2.0, 0.0)
+
+
+def test_a_moving_obstacle_slides_until_something_stops_it(room):
+    simulation = Simulation(room, robots=[robot('a', 7.0)])
+    simulation.add_obstacle('ball', 0.2, (3.0, 2.0, 0.0), moving=True)
+    simulation.set_velocity('ball', 0.5, 0.0, 1.0)
+    simulation.step()
+    assert simulation.pose('ball') == pytest.approx((3.01, 2.0, 0.02))
+    assert simulation.velocity('ball') == pytest.approx((0.5, 0.0, 1.0))
+    for _ in range(600):
+        simulation.step()
+    assert simulation.pose('ball')[0] == pytest.approx(7.0 - 0.4, abs=0.02)
+    assert simulation.velocity('ball') == (0.0, 0.0, 0.0)
+    assert simulation.pose('a') == (7.0, 2.0, 0.0)
+
+
+@pytest.mark.parametrize('name, velocity, message', [
+    ('a', (0.0, 0.5, 0.0), 'unicycle'),
+    ('rock', (0.1, 0.0, 0.0), 'static obstacle does not move'),
+    ('ball', (50.0, 0.0, 0.0), 'exceeds the limits'),
+    ('ball', (float('nan'), 0.0, 0.0), 'must be finite'),
+])
+def test_a_refused_state_changes_neither_pose_nor_velocity(room, name, velocity, message):
+    simulation = Simulation(room, robots=[robot('a', 2.0)])
+    simulation.add_obstacle('rock', 0.3, (5.0, 2.0, 0.0))
+    simulation.add_obstacle('ball', 0.3, (7.0, 2.0, 0.0), moving=True)
+    before = simulation.pose(name)
+    with pytest.raises(RequestError, match=message):
+        simulation.set_state(name, (8.5, 3.0, 0.0), velocity)
+    simulation.step()
+    assert simulation.pose(name) == before
+
+
+def test_a_robot_set_moving_along_its_new_heading_drives_there(room):
+    simulation = Simulation(room, robots=[robot('a', 2.0)])
+    simulation.set_state('a', (3.0, 2.0, math.pi / 2), (0.0, 0.5, 0.0))
+    simulation.step()
+    assert simulation.pose('a') == pytest.approx((3.0, 2.01, math.pi / 2))
+
+
+def test_reset_by_scope(room):
+    simulation = Simulation(room, robots=[robot('a', 2.0)])
+    simulation.add_obstacle('rock', 0.3, (5.0, 3.0, 0.0))
+    simulation.command('a', 0.5, 0.0)
+    for _ in range(10):
+        simulation.step()
+    simulation.reset(time=False, state=False, spawned=True)
+    assert simulation.names == ['a'] and simulation.step_count == 10
+    assert simulation.pose('a')[0] == pytest.approx(2.1)
+    simulation.reset(time=True, state=False, spawned=False)
+    assert simulation.step_count == 0 and simulation.pose('a')[0] == pytest.approx(2.1)
+    simulation.reset(time=False, state=True, spawned=False)
+    assert simulation.pose('a') == (2.0, 2.0, 0.0)
+    simulation.step()
+    assert simulation.applied_velocity('a') == (0.0, 0.0)
+
+
+def test_a_reset_that_cannot_put_everyone_back_changes_nothing(room):
+    simulation = Simulation(room, robots=[robot('a', 2.0)])
+    simulation.teleport('a', (6.0, 2.0, 0.0))
+    simulation.add_obstacle('rock', 0.3, (2.0, 2.0, 0.0))
+    with pytest.raises(PlacementError, match='rock cannot stand at its start pose: .* overlaps a'):
+        simulation.reset(time=True, state=True, spawned=False)
+    assert simulation.names == ['a', 'rock'] and simulation.pose('a') == (6.0, 2.0, 0.0)
+
+
+def test_a_new_map_keeps_the_start_robots_or_refuses_whole(room, tmp_path):
+    simulation = Simulation(room, robots=[robot('a', 2.0)])
+    simulation.add_obstacle('rock', 0.3, (5.0, 3.0, 0.0))
+    for _ in range(5):
+        simulation.step()
+    small = load_map(write_map(tmp_path, walled_room(30, 30), name='small'))
+    with pytest.raises(PlacementError, match='a cannot stand at its start pose'):
+        simulation.load_map(small)
+    assert simulation.names == ['a', 'rock'] and simulation.step_count == 5
+    other = load_map(write_map(tmp_path, walled_room(100, 100), name='other'))
+    simulation.load_map(other)
+    assert simulation.names == ['a'] and simulation.step_count == 0
+    assert simulation.occupancy_map is other and simulation.pose('a') == (2.0, 2.0, 0.0)

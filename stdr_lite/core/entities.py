@@ -1,0 +1,123 @@
+"""What the simulation holds besides the World's arrays: its entities and their schedules."""
+
+from dataclasses import dataclass, field
+import enum
+import math
+
+from stdr_lite.core.odometry import OdometryNoise
+from stdr_lite.core.robot_description import RobotDescription
+
+NANOSECONDS = 1_000_000_000
+
+
+class RequestError(ValueError):
+    """A request the simulation refuses (a name taken or unknown); nothing was changed."""
+
+
+class NamespaceError(RequestError):
+    """A robot's topic namespace that is no ROS namespace, or is another robot's."""
+
+
+class Category(enum.Enum):
+    """What an entity is: a robot with topics, or a circular obstacle that stays or moves."""
+
+    ROBOT = 'robot'
+    STATIC_OBSTACLE = 'static obstacle'
+    MOVING_OBSTACLE = 'moving obstacle'
+
+
+@dataclass(frozen=True)
+class SimulationSettings:
+    """How the world is stepped and measured; SI units. odom_rate_hz 0 is every step."""
+
+    rate_hz: float = 50.0
+    integrator: str = 'euler'
+    max_linear_speed: float = 2.0
+    max_angular_speed: float = math.pi
+    cmd_vel_timeout: float = 0.0
+    sensor_seed: int = 0
+    odom_rate_hz: float = 0.0
+    odometry_noise: OdometryNoise = OdometryNoise()
+    odom_seed: int = 0
+
+
+class PeriodicSchedule:
+    """Falls due once per period of sim time, from first_due_ns on, whatever the step rate."""
+
+    def __init__(self, period_ns: int, first_due_ns: int):
+        self.period_ns = period_ns
+        self.next_due_ns = first_due_ns
+
+    def due(self, now_ns: int) -> bool:
+        """Whether the schedule falls due at now_ns; if so, it moves on to the next period."""
+        if now_ns < self.next_due_ns:
+            return False
+        self.next_due_ns += self.period_ns * (1 + (now_ns - self.next_due_ns) // self.period_ns)
+        return True
+
+
+@dataclass
+class ScheduledSensor:
+    """A laser or sonar and when it next reads."""
+
+    spec: object
+    schedule: PeriodicSchedule
+
+    def restart(self, now_ns: int) -> None:
+        """Read first one period after now_ns."""
+        self.schedule = PeriodicSchedule(self.schedule.period_ns, now_ns + self.schedule.period_ns)
+
+
+@dataclass
+class SimulatedEntity:
+    """
+    A robot or an obstacle, besides its state in the World's arrays.
+
+    start_pose is where a reset puts it back; spawned marks entities added while running,
+    which a reset of spawned entities removes. A robot's topics sit under its namespace.
+    """
+
+    name: str
+    category: Category
+    radius: float
+    start_pose: tuple
+    spawned: bool = False
+    description: RobotDescription | None = None
+    namespace: str = ''
+    sensors: list = field(default_factory=list)
+
+    @property
+    def is_robot(self) -> bool:
+        return self.category is Category.ROBOT
+
+
+def sensors_of(description: RobotDescription, now_ns: int) -> list[ScheduledSensor]:
+    """Return a description's lasers and sonars, each first due one period after now_ns."""
+    sensors = []
+    for spec in description.lasers + description.sonars:
+        period_ns = round(NANOSECONDS / spec.frequency)
+        sensors.append(ScheduledSensor(spec, PeriodicSchedule(period_ns, now_ns + period_ns)))
+    return sensors
+
+
+class Answers:
+    """Lockstep: which robots have not yet answered the latest odometry with a command."""
+
+    def __init__(self):
+        self._awaited = set()
+
+    def expect(self, names) -> None:
+        """From now on, wait for a command from each of names before stepping."""
+        self._awaited = set(names)
+
+    def answer(self, name: str) -> bool:
+        """Note that name answered; return whether its answer was awaited."""
+        if name not in self._awaited:
+            return False
+        self._awaited.discard(name)
+        return True
+
+    @property
+    def awaiting(self) -> bool:
+        """Whether some robot has not answered yet."""
+        return bool(self._awaited)

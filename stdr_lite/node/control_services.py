@@ -1,0 +1,283 @@
+"""
+The standard simulation API's control of time and worlds, served under the node's name.
+
+GetSimulatorFeatures, Get/SetSimulationState, StepSimulation, the SimulateSteps action,
+ResetSimulation, and worlds as maps: GetAvailableWorlds, LoadWorld, GetCurrentWorld,
+UnloadWorld. Every answer carries a standard result code and, on a refusal, a message saying
+why; a refused call changes nothing.
+"""
+
+import glob
+import os
+
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from simple_robot_control.occupancy_map import (load_map, MapError, MapImageError,
+                                                MapTooLargeError)
+from simple_robot_control.share import shared_file
+from simulation_interfaces.action import SimulateSteps
+from simulation_interfaces.msg import (Resource, Result, SimulationState, SimulatorFeatures,
+                                       WorldResource)
+from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetSimulationState,
+                                       GetSimulatorFeatures, LoadWorld, ResetSimulation,
+                                       SetSimulationState, StepSimulation, UnloadWorld)
+from stdr_lite.core.spawnables import path_of, SPAWN_FORMATS, SpawnResourceError
+from stdr_lite.core.world import PlacementError
+
+# Requests are queued whole however many come at once: no burst loses one.
+SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+# StepSimulation takes its steps inside the call, so it is kept short; the action takes more.
+MAX_SERVICE_STEPS = 10_000
+FEATURES = SimulatorFeatures
+IMPLEMENTED = [
+    FEATURES.SPAWNING, FEATURES.DELETING, FEATURES.ENTITY_TAGS, FEATURES.ENTITY_BOUNDS,
+    FEATURES.ENTITY_BOUNDS_BOX, FEATURES.ENTITY_BOUNDS_CONVEX, FEATURES.ENTITY_CATEGORIES,
+    FEATURES.SPAWNING_RESOURCE_STRING, FEATURES.ENTITY_STATE_GETTING,
+    FEATURES.ENTITY_STATE_SETTING, FEATURES.ENTITY_INFO_GETTING, FEATURES.SPAWNABLES,
+    FEATURES.SIMULATION_RESET, FEATURES.SIMULATION_RESET_TIME, FEATURES.SIMULATION_RESET_STATE,
+    FEATURES.SIMULATION_RESET_SPAWNED, FEATURES.SIMULATION_STATE_GETTING,
+    FEATURES.SIMULATION_STATE_SETTING, FEATURES.SIMULATION_STATE_PAUSE,
+    FEATURES.STEP_SIMULATION_SINGLE, FEATURES.STEP_SIMULATION_MULTIPLE,
+    FEATURES.STEP_SIMULATION_ACTION, FEATURES.WORLD_LOADING, FEATURES.WORLD_UNLOADING,
+    FEATURES.WORLD_INFO_GETTING, FEATURES.AVAILABLE_WORLDS, FEATURES.SPAWNING_ENTITIES]
+CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of unicycle robots and circular '
+               'obstacles. Entities are robots (STDR robot YAML) and obstacles; worlds are '
+               'map_server maps. See the README, section "Controlling the simulation".')
+STATE = SimulationState
+
+
+def result(code=Result.RESULT_OK, message=''):
+    return Result(result=code, error_message=message)
+
+
+def world_resource(path):
+    """Describe a map_server map file as a standard world."""
+    name = os.path.splitext(os.path.basename(path))[0]
+    return WorldResource(name=name, world_resource=Resource(uri=path),
+                         description=f'map_server map {name}')
+
+
+class SimulationControl:
+    """Serves time and world control on a StdrLite node."""
+
+    def __init__(self, node):
+        self._node = node
+        self._world = node.simulation.occupancy_map.source
+        self._stepping = False
+        for kind, name, callback in (
+                (GetSimulatorFeatures, 'get_simulator_features', self._features),
+                (GetSimulationState, 'get_simulation_state', self._get_state),
+                (SetSimulationState, 'set_simulation_state', self._set_state),
+                (StepSimulation, 'step_simulation', self._step),
+                (ResetSimulation, 'reset_simulation', self._reset),
+                (GetAvailableWorlds, 'get_available_worlds', self._available_worlds),
+                (LoadWorld, 'load_world', self._load_world),
+                (GetCurrentWorld, 'get_current_world', self._current_world),
+                (UnloadWorld, 'unload_world', self._unload_world)):
+            node.create_service(kind, f'~/{name}', callback, qos_profile=SERVICE_QOS)
+        ActionServer(node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
+                     goal_callback=self._accept_goal,
+                     cancel_callback=lambda _: CancelResponse.ACCEPT)
+
+    @property
+    def _state(self):
+        return self._node.stepper.state
+
+    def _features(self, request, response):
+        response.features = SimulatorFeatures(features=IMPLEMENTED,
+                                              spawn_formats=list(SPAWN_FORMATS),
+                                              custom_info=CUSTOM_INFO)
+        return response
+
+    def _get_state(self, request, response):
+        response.state.state = self._state
+        response.result = result()
+        return response
+
+    def _set_state(self, request, response):
+        target, stepper = request.state.state, self._node.stepper
+        if target == self._state:
+            response.result = result(response.ALREADY_IN_TARGET_STATE,
+                                     f'the simulation is in state {target} already')
+        elif target == STATE.STATE_QUITTING:
+            response.result = result()
+            self._node.quit_soon()
+        elif self._state == STATE.STATE_NO_WORLD:
+            response.result = result(response.INCORRECT_TRANSITION,
+                                     'no world is loaded: call load_world first')
+        elif target in (STATE.STATE_PLAYING, STATE.STATE_PAUSED):
+            stepper.set_state(target)
+            response.result = result()
+        elif target == STATE.STATE_STOPPED:
+            self._node.simulation.reset()
+            self._node.restarted()
+            stepper.set_state(target)
+            response.result = result()
+        else:
+            response.result = result(response.INCORRECT_TRANSITION,
+                                     f'state {target} is reached through load_world or '
+                                     'unload_world, not set')
+        return response
+
+    def _step(self, request, response):
+        if self._state != STATE.STATE_PAUSED:
+            response.result = result(Result.RESULT_INCORRECT_STATE,
+                                     'step_simulation steps a paused simulation: pause it first')
+        elif request.steps > MAX_SERVICE_STEPS:
+            response.result = result(Result.RESULT_OPERATION_FAILED,
+                                     f'step_simulation takes at most {MAX_SERVICE_STEPS} steps; '
+                                     'the simulate_steps action takes any number')
+        else:
+            for _ in range(request.steps):
+                self._node.stepper.step_now()
+            response.result = result()
+        return response
+
+    def _accept_goal(self, goal):
+        return GoalResponse.REJECT if self._stepping else GoalResponse.ACCEPT
+
+    async def _simulate_steps(self, goal):
+        """Take the steps one at a time through the usual loop, so pacing and lockstep hold."""
+        answer = SimulateSteps.Result()
+        if self._state != STATE.STATE_PAUSED:
+            answer.result = result(Result.RESULT_INCORRECT_STATE,
+                                   'simulate_steps steps a paused simulation: pause it first')
+            goal.abort()
+            return answer
+        self._stepping = True
+        try:
+            steps = goal.request.steps
+            for done in range(steps):
+                if goal.is_cancel_requested:
+                    goal.canceled()
+                    answer.result = result(Result.RESULT_OPERATION_FAILED,
+                                           f'canceled after {done} of {steps} steps')
+                    return answer
+                if not await self._node.stepper.request_step():
+                    goal.abort()
+                    answer.result = result(Result.RESULT_INCORRECT_STATE,
+                                           f'the simulation left pause after {done} steps')
+                    return answer
+                goal.publish_feedback(SimulateSteps.Feedback(completed_steps=done + 1,
+                                                             remaining_steps=steps - done - 1))
+            goal.succeed()
+            answer.result = result()
+            return answer
+        finally:
+            self._stepping = False
+
+    def _reset(self, request, response):
+        scope = request.scope
+        if scope in (request.SCOPE_DEFAULT, request.SCOPE_ALL):
+            scope = request.SCOPE_TIME | request.SCOPE_STATE | request.SCOPE_SPAWNED
+        if scope & ~(request.SCOPE_TIME | request.SCOPE_STATE | request.SCOPE_SPAWNED):
+            response.result = result(Result.RESULT_FEATURE_UNSUPPORTED,
+                                     f'unknown scope bits in {request.scope}; the scopes are '
+                                     'TIME (1), STATE (2), SPAWNED (4), ALL (255)')
+            return response
+        try:
+            self._node.simulation.reset(time=bool(scope & request.SCOPE_TIME),
+                                        state=bool(scope & request.SCOPE_STATE),
+                                        spawned=bool(scope & request.SCOPE_SPAWNED))
+        except PlacementError as error:
+            response.result = result(Result.RESULT_OPERATION_FAILED, str(error))
+            return response
+        self._node.restarted()
+        response.result = result()
+        return response
+
+    def _available_worlds(self, request, response):
+        if request.filter.tags:
+            response.result = result(Result.RESULT_FEATURE_UNSUPPORTED,
+                                     'worlds have no tags here')
+            return response
+        paths = sorted(glob.glob(shared_file('maps', '*.yaml')))
+        unreadable = []
+        for source in request.additional_sources:
+            source = path_of(source, {}) if source.startswith('file:') else source
+            if os.path.isdir(source):
+                paths += sorted(glob.glob(os.path.join(source, '*.yaml')))
+            elif os.path.isfile(source):
+                paths.append(source)
+            else:
+                unreadable.append(source)
+        if unreadable and not request.continue_on_error:
+            response.result = result(Result.RESULT_OPERATION_FAILED,
+                                     f'no such source: {", ".join(unreadable)}')
+            return response
+        response.worlds = [world_resource(path) for path in paths if _is_map(path)]
+        response.result = result(message=f'not found: {", ".join(unreadable)}'
+                                 if unreadable else '')
+        return response
+
+    def _load_world(self, request, response):
+        if not request.uri:
+            response.result = (result(response.NO_RESOURCE, 'give the uri of a map_server YAML')
+                               if not request.resource_string else result(
+                                   Result.RESULT_FEATURE_UNSUPPORTED,
+                                   'worlds load from files only; give a uri'))
+            return response
+        bundled = {os.path.splitext(os.path.basename(path))[0]: path
+                   for path in glob.glob(shared_file('maps', '*.yaml'))}
+        try:
+            path = path_of(request.uri, bundled)
+        except SpawnResourceError as error:
+            response.result = result(response.UNSUPPORTED_FORMAT, str(error))
+            return response
+        if not path.endswith(('.yaml', '.yml')):
+            response.result = result(response.UNSUPPORTED_FORMAT,
+                                     f'{request.uri}: worlds are map_server YAML files')
+            return response
+        if not os.path.isfile(path):
+            response.result = result(Result.RESULT_NOT_FOUND, f'{request.uri}: no such file')
+            return response
+        try:
+            self._node.simulation.load_map(load_map(path))
+        except (MapError, PlacementError) as error:
+            response.result = result(_load_failure_code(response, error), str(error))
+            return response
+        self._world = path
+        self._node.restarted(new_map=True)
+        self._node.stepper.set_state(STATE.STATE_STOPPED)
+        response.world = world_resource(path)
+        response.result = result()
+        return response
+
+    def _current_world(self, request, response):
+        if self._state == STATE.STATE_NO_WORLD:
+            response.result = result(response.NO_WORLD_LOADED, 'no world is loaded')
+        else:
+            response.world = world_resource(self._world)
+            response.result = result()
+        return response
+
+    def _unload_world(self, request, response):
+        if self._state == STATE.STATE_NO_WORLD:
+            response.result = result(response.NO_WORLD_LOADED, 'no world is loaded')
+            return response
+        self._node.simulation.reset(time=False, state=False, spawned=True)
+        self._node.stepper.set_state(STATE.STATE_NO_WORLD)
+        self._node.sync_entities()
+        response.result = result()
+        return response
+
+
+def _is_map(path):
+    """Whether a YAML file looks like a map_server map (it names an image)."""
+    try:
+        with open(path, encoding='utf-8-sig') as stream:
+            head = stream.read(4096)
+    except OSError:
+        return False
+    return any(line.split('#')[0].strip().startswith('image:') for line in head.splitlines())
+
+
+def _load_failure_code(response, error):
+    """Return the standard code of a world that did not load: its image, its file, or a robot."""
+    if isinstance(error, MapTooLargeError):
+        return response.UNSUPPORTED_ASSETS
+    if isinstance(error, MapImageError):
+        return response.MISSING_ASSETS
+    if isinstance(error, MapError):
+        return response.RESOURCE_PARSE_ERROR
+    return Result.RESULT_OPERATION_FAILED

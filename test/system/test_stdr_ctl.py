@@ -1,0 +1,84 @@
+"""stdr_ctl as a separate process against a running stdr_lite: answers and exit codes."""
+
+import re
+
+from processes import interrupt, run, start
+import pytest
+
+SIM_TIME = re.compile(r'sim time (\S+) s')
+
+
+@pytest.fixture(scope='module')
+def simulator():
+    process = start('stdr_lite', '--ros-args', '-p', 'real_time_factor:=5.0')
+    try:
+        yield process
+    finally:
+        interrupt(process)
+
+
+def ctl(*args, timeout=60):
+    return run('stdr_ctl', *args, timeout=timeout)
+
+
+def answer_of(*args):
+    """Return what stdr_ctl printed, failing the test with its complaint unless it exited 0."""
+    answer = ctl(*args)
+    assert answer.returncode == 0, answer.stderr
+    return answer.stdout.strip()
+
+
+def sim_time(name='robot0'):
+    return float(SIM_TIME.search(answer_of('get', name)).group(1))
+
+
+def test_pause_step_and_play(simulator):
+    assert answer_of('pause') == 'paused'
+    assert answer_of('state') == 'paused'
+    before = sim_time()
+    assert answer_of('step', '25') == 'stepped 25'
+    assert sim_time() == pytest.approx(before + 0.5)
+    assert answer_of('simulate', '10') == 'simulated 10'
+    assert sim_time() == pytest.approx(before + 0.7)
+    assert answer_of('play') == 'playing'
+
+
+def test_spawn_move_list_and_delete(simulator):
+    assert answer_of('spawn', 'obstacle', '6', '6', '--name', 'rock') == 'spawned rock'
+    assert answer_of('move', 'rock', '7', '6').startswith('rock at x 7.000')
+    assert answer_of('list', '--category', 'static').startswith(
+        'rock: x 7.000 y 6.000 theta 0.0000')
+    assert 'static obstacle of radius 0.25 m' in answer_of('info', 'rock')
+    assert answer_of('delete', 'rock') == 'deleted rock'
+    assert 'rock' not in answer_of('list')
+
+
+def test_a_refusal_is_one_line_and_exit_code_1(simulator):
+    answer = ctl('spawn', 'obstacle', '0.1', '0.1', '--name', 'stuck')
+    assert answer.returncode == 1
+    assert answer.stderr.startswith('stdr_ctl: spawn refused: INVALID_POSE: ')
+    assert len(answer.stderr.splitlines()) == 1
+    missing = ctl('delete', 'nobody')
+    assert missing.returncode == 1 and 'RESULT_NOT_FOUND' in missing.stderr
+
+
+def test_features_worlds_and_spawnables_are_listed(simulator):
+    features = answer_of('features')
+    assert 'step_simulation_action' in features and 'stdr_lite_obstacle_yaml' in features
+    assert answer_of('worlds').startswith('lab_room: ')
+    assert answer_of('world').startswith('lab_room: ')
+    assert 'moving_obstacle: moving obstacle' in answer_of('spawnables')
+
+
+@pytest.mark.parametrize('args', [['step', 'many'], ['move', 'robot0', '1', 'nan'],
+                                  ['reset', 'everything'], ['fly'], []])
+def test_bad_arguments_exit_2_without_asking(args):
+    answer = ctl(*args)
+    assert answer.returncode == 2
+    assert 'usage: stdr_ctl' in answer.stderr and 'Traceback' not in answer.stderr
+
+
+def test_no_simulator_answering_is_exit_code_1():
+    answer = ctl('--simulator', '/nobody', '--timeout', '1', 'state')
+    assert answer.returncode == 1
+    assert 'no simulator answering: /nobody/get_simulation_state' in answer.stderr
