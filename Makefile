@@ -24,7 +24,7 @@ swarm: install
 
 bench: install
 	$(PYTHON) -m bench.controller
-	$(PYTHON) -m bench.path_bound
+	$(PYTHON) -m bench.optimum
 	$(PYTHON) -m bench.realtime
 	$(PYTHON) -m bench.viewer
 

@@ -1,63 +1,29 @@
 """
 Benchmark the waypoint control law in a plain kinematic loop (a benchmark, not a test).
 
-Random seeded courses of five waypoints are driven with exact arc integration; the goal set is
-judged on the true pose after every step. Completion time is compared with the lower bound
-LB = sum over legs of max(d'/v_max, dtheta'/omega_max), where d' and dtheta' are the leg's
-distance and heading change less the tolerances at both ends. A plain rotate-drive-rotate PID
-runs on the same courses for comparison.
+Random seeded courses of five waypoints (bench/courses.py) are driven with exact arc
+integration; the goal set is judged after every step on the pose the controller sees.
+Completion time is compared with the time-optimal chain of bench/optimum.py replayed in the
+same loop at the same dt (T/opt), and with the simple bound LB = sum over legs of
+max(d'/v_max, dtheta'/omega_max), where d' and dtheta' are the leg's distance and heading change
+less the tolerances at both ends. The controller also runs at control rates below the step
+rate, with drifting odometry and with its commands a control period late. A plain
+rotate-drive-rotate PID runs for comparison.
 """
 
 import argparse
-from dataclasses import dataclass
 import math
 import sys
+import time
 
+from bench.courses import (drive, LEG_KINDS, Loop, lower_bound, random_course, time_limit,
+                           TYPICAL_DRIFT)
+from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import numpy as np
-from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.control_law import (ControllerConfig, CourseFollower, FollowerStep,
                                              in_goal_set, wrap)
 from waypoint_controller.pid import PID
-from waypoint_controller.waypoints import Waypoint
-
-LEG_KINDS = ('open', 'behind', 'lateral', 'rotation')
-LEG_WEIGHTS = (0.55, 0.15, 0.15, 0.15)
-
-
-def random_course(rng, waypoint_count=5):
-    """Return a start pose and waypoints mixing open legs with the hard kinds."""
-    x, y, theta = 0.0, 0.0, rng.uniform(-math.pi, math.pi)
-    start = (x, y, theta)
-    waypoints = []
-    for kind in rng.choice(LEG_KINDS, size=waypoint_count, p=LEG_WEIGHTS):
-        if kind == 'open':
-            distance, bearing = rng.uniform(0.5, 3.0), rng.uniform(-math.pi, math.pi)
-            x, y = x + distance * math.cos(bearing), y + distance * math.sin(bearing)
-            theta = rng.uniform(-math.pi, math.pi)
-        elif kind == 'behind':
-            distance = rng.uniform(0.5, 1.0)
-            x, y = x - distance * math.cos(theta), y - distance * math.sin(theta)
-            theta = wrap(theta + rng.uniform(-math.pi / 4, math.pi / 4))
-        elif kind == 'lateral':
-            offset = rng.choice((-1.0, 1.0)) * rng.uniform(0.5, 1.0)
-            x, y = x - offset * math.sin(theta), y + offset * math.cos(theta)
-        else:
-            theta = wrap(theta + rng.choice((-1.0, 1.0)) * rng.uniform(math.pi / 6, math.pi))
-        waypoints.append(Waypoint(x, y, theta))
-    return start, waypoints
-
-
-def lower_bound(start, waypoints, config):
-    total = 0.0
-    previous = start
-    for waypoint in waypoints:
-        distance = math.hypot(waypoint.x - previous[0], waypoint.y - previous[1])
-        turn = abs(wrap(waypoint.theta - previous[2]))
-        total += max(max(0.0, distance - 2 * config.distance_tolerance)
-                     / config.max_linear_speed,
-                     max(0.0, turn - 2 * config.angle_tolerance) / config.max_angular_speed)
-        previous = (waypoint.x, waypoint.y, waypoint.theta)
-    return total
+from waypoint_controller.planner import plan_to_goal_set
 
 
 class RotateDriveRotate:
@@ -69,75 +35,103 @@ class RotateDriveRotate:
         self._heading = PID(4.0, 0.0, 0.0, config.max_angular_speed)
         self._distance = PID(2.0, 0.0, 0.0, config.max_linear_speed)
 
-    def update(self, pose, dt):
+    @property
+    def finished(self):
+        return self.next_index == len(self.waypoints)
+
+    def check(self, pose):
         reached = []
-        while (self.next_index < len(self.waypoints)
+        while (not self.finished
                and in_goal_set(pose, self.waypoints[self.next_index], self.config)):
             reached.append(self.next_index)
             self.next_index += 1
-        if self.next_index == len(self.waypoints):
-            return FollowerStep(0.0, 0.0, tuple(reached), True)
+        return tuple(reached)
+
+    def update(self, pose, dt):
+        reached = self.check(pose)
+        if self.finished:
+            return FollowerStep(0.0, 0.0, reached, True)
         goal = self.waypoints[self.next_index]
         x, y, theta = pose
         distance = math.hypot(goal.x - x, goal.y - y)
         kp = min(4.0, 0.9 / dt)
         if distance <= 0.5 * self.config.distance_tolerance:
             angular = self._heading.update(wrap(goal.theta - theta), dt, kp=kp)
-            return FollowerStep(0.0, angular, tuple(reached), False)
+            return FollowerStep(0.0, angular, reached, False)
         facing_error = wrap(math.atan2(goal.y - y, goal.x - x) - theta)
         angular = self._heading.update(facing_error, dt, kp=kp)
         if abs(facing_error) > math.radians(5.0):
-            return FollowerStep(0.0, angular, tuple(reached), False)
+            return FollowerStep(0.0, angular, reached, False)
         linear = self._distance.update(distance, dt, kp=min(2.0, 0.9 / dt))
-        return FollowerStep(linear, angular, tuple(reached), False)
+        return FollowerStep(linear, angular, reached, False)
 
 
-@dataclass
-class Run:
-    success: bool
-    time: float
-    path_length: float
-    reversals: int
-
-
-def drive(follower, start, dt, time_limit):
-    """Run one course in a plain loop: control, then one exact-arc step of the true pose."""
-    pose = start
-    path_length, reversals, last_sign, elapsed = 0.0, 0, 0.0, 0.0
-    while elapsed <= time_limit:
-        step = follower.update(pose, dt)
-        if step.finished:
-            return Run(True, elapsed, path_length, reversals)
-        sign = math.copysign(1.0, step.angular) if abs(step.angular) > 1e-3 else 0.0
-        if sign and last_sign and sign != last_sign:
-            reversals += 1
-        last_sign = sign or last_sign
-        x, y, theta = (float(value) for value in arc_step(*pose, step.linear, step.angular, dt))
-        path_length += math.hypot(x - pose[0], y - pose[1])
-        pose = (x, y, theta)
-        elapsed += dt
-    return Run(False, elapsed, path_length, reversals)
-
-
-def evaluate(make_follower, courses, config, dt):
-    ratios, stretch, reversals, failures = [], [], [], 0
-    for start, waypoints in courses:
-        bound = lower_bound(start, waypoints, config)
-        run = drive(make_follower(waypoints), start, dt, time_limit=10.0 * bound + 30.0)
+def evaluate(make_follower, courses, config, loop, optimum_runs=None):
+    """Measure one controller in one loop; T/opt against the replayed optimum's runs."""
+    ratios, optimal, stretch, reversals, failures = [], [], [], [], 0
+    by_kind = {kind: [] for kind in LEG_KINDS}
+    for index, (start, waypoints, kinds) in enumerate(courses):
+        run = drive(make_follower(waypoints), start, loop, time_limit(start, waypoints, config))
         if not run.success:
             failures += 1
             continue
-        ratios.append(run.time / bound)
+        ratios.append(run.time / lower_bound(start, waypoints, config))
+        if optimum_runs is not None:
+            reference = optimum_runs[index]
+            optimal.append(run.time / reference.time)
+            for kind, leg, best in zip(kinds, run.leg_times, reference.leg_times):
+                if best > 0.0:
+                    by_kind[kind].append(leg / best)
         straight = sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(
             [start] + [(w.x, w.y) for w in waypoints], [(w.x, w.y) for w in waypoints]))
         stretch.append(run.path_length / straight)
         reversals.append(run.reversals / len(waypoints))
-    return {'success': 1.0 - failures / len(courses),
-            'ratio_median': float(np.median(ratios)) if ratios else math.nan,
-            'ratio_p90': float(np.percentile(ratios, 90)) if ratios else math.nan,
-            'stretch_median': float(np.median(stretch)) if stretch else math.nan,
-            'reversals_mean': float(np.mean(reversals)) if reversals else math.nan,
-            'reversals_p90': float(np.percentile(reversals, 90)) if reversals else math.nan}
+    return {'success': 1.0 - failures / len(courses), 'lb': _spread(ratios),
+            'opt': _spread(optimal), 'stretch': _spread(stretch)[0],
+            'reversals': float(np.mean(reversals)) if reversals else math.nan,
+            'kinds': {kind: _spread(values)[0] for kind, values in by_kind.items()}}
+
+
+def _spread(values):
+    """(median, p90), nan when empty."""
+    if not values:
+        return math.nan, math.nan
+    return float(np.median(values)), float(np.percentile(values, 90))
+
+
+def replayed_optimum(courses, config, dt):
+    """Replay the optimum chain of every course (bench/optimum.py) in the loop at dt."""
+    reeds_shepp = ReedsSheppTimes(config)
+    runs = []
+    for start, waypoints, _ in courses:
+        _, _, chain = course_optimum(start, waypoints, config, reeds_shepp)
+        runs.append(replay(start, waypoints, chain, config, dt))
+    return runs
+
+
+HEADER = (f'{"controller":21} {"loop":22} {"success":>7} {"T/opt":>6} {"p90":>6} '
+          f'{"T/LB":>6} {"p90":>6} {"path/line":>9} {"w rev/wp":>8}  T/opt by leg kind')
+
+
+def report(name, label, result):
+    kinds = ' '.join(f'{kind} {value:.3f}' for kind, value in result['kinds'].items())
+    print(f'{name:21} {label:22} {result["success"]:7.1%} {result["opt"][0]:6.3f} '
+          f'{result["opt"][1]:6.3f} {result["lb"][0]:6.3f} {result["lb"][1]:6.3f} '
+          f'{result["stretch"]:9.3f} {result["reversals"]:8.2f}  {kinds}', flush=True)
+
+
+def planning_times(courses, config):
+    """Seconds the planner takes at each waypoint switch of the courses (with lookahead)."""
+    seconds = []
+    for start, waypoints, _ in courses:
+        poses = [(w.x, w.y, w.theta) for w in waypoints] + [None]
+        pose = start
+        for waypoint, following in zip(poses, poses[1:]):
+            began = time.perf_counter()
+            plan = plan_to_goal_set(pose, waypoint, config.limits, following)
+            seconds.append(time.perf_counter() - began)
+            pose = plan.pose_at(plan.duration)
+    return seconds
 
 
 def main(argv=None):
@@ -145,26 +139,40 @@ def main(argv=None):
     parser.add_argument('--courses', type=int, default=1000)
     parser.add_argument('--seed', type=int, default=2026)
     parser.add_argument('--dt', type=float, nargs='+', default=[0.05, 0.01, 0.2])
+    parser.add_argument('--rates', type=float, nargs='*', default=[5.0, 10.0, 20.0, 50.0],
+                        help='control rates [Hz] to run against a 100 Hz loop')
     parser.add_argument('--no-baseline', action='store_true')
     args = parser.parse_args(argv)
     config = ControllerConfig()
     rng = np.random.default_rng(args.seed)
     courses = [random_course(rng) for _ in range(args.courses)]
-    contenders = [('waypoint_controller', lambda w: CourseFollower(w, config))]
-    if not args.no_baseline:
-        contenders.append(('rotate-drive-rotate', lambda w: RotateDriveRotate(w, config)))
     print(f'{args.courses} courses of 5 waypoints, seed {args.seed}, limits '
           f'{config.max_linear_speed} m/s {config.max_angular_speed} rad/s, goal set '
-          f'{config.distance_tolerance} m / {math.degrees(config.angle_tolerance):g} deg')
-    print(f'{"controller":22} {"dt":>5} {"success":>8} {"T/LB med":>9} {"T/LB p90":>9} '
-          f'{"path/line":>9} {"w rev/wp":>9} {"rev p90":>8}')
+          f'{config.distance_tolerance} m / {math.degrees(config.angle_tolerance):g} deg; '
+          'T/opt: time / the optimum replayed at the same dt')
+    print(HEADER)
+    ours = ('waypoint_controller', lambda w: CourseFollower(w, config))
+    contenders = [ours] + ([] if args.no_baseline else [
+        ('rotate-drive-rotate', lambda w: RotateDriveRotate(w, config))])
+    optimum = {}
+    for dt in sorted(set(args.dt) | ({0.01} if args.rates else set())):
+        optimum[dt] = replayed_optimum(courses, config, dt)
     for name, make_follower in contenders:
         for dt in args.dt:
-            result = evaluate(make_follower, courses, config, dt)
-            print(f'{name:22} {dt:5.2f} {result["success"]:8.1%} {result["ratio_median"]:9.3f} '
-                  f'{result["ratio_p90"]:9.3f} {result["stretch_median"]:9.3f} '
-                  f'{result["reversals_mean"]:9.2f} {result["reversals_p90"]:8.2f}',
-                  flush=True)
+            report(name, f'dt {dt:g}', evaluate(make_follower, courses, config, Loop(dt),
+                                                optimum[dt]))
+    for rate in args.rates:
+        loop = Loop(0.01, control_every=round(100.0 / rate))
+        report(ours[0], f'dt 0.01, control {rate:g} Hz',
+               evaluate(ours[1], courses, config, loop, optimum[0.01]))
+    base = 0.05 if 0.05 in optimum else args.dt[0]
+    report(ours[0], f'dt {base:g}, drifting odom',
+           evaluate(ours[1], courses, config, Loop(base, drift=TYPICAL_DRIFT), optimum[base]))
+    report(ours[0], f'dt {base:g}, 1 period late',
+           evaluate(ours[1], courses, config, Loop(base, late_by=1), optimum[base]))
+    seconds = planning_times(courses, config)
+    print(f'planning per waypoint: median {np.median(seconds) * 1e3:.2f} ms, '
+          f'p99 {np.percentile(seconds, 99) * 1e3:.2f} ms, max {max(seconds) * 1e3:.2f} ms')
     return 0
 
 

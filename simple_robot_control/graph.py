@@ -13,15 +13,20 @@ SETTLED_FOR = 0.25
 POLL_PERIOD = 0.02
 
 
+UNNAMED = 'a node not yet named'
+
+
 def other_publishers(node, topic, own=1):
     """
     Return the full names of the publishers on topic (resolved) besides node's own.
 
     Two nodes may bear one name (two controllers started alike), so own publishers are
-    discounted by number rather than every publisher named like node left out.
+    discounted by number rather than every publisher named like node left out. A publisher
+    whose node is seen before its name (discovery under way) is 'a node not yet named'.
     """
     me = f'{node.get_namespace().rstrip("/")}/{node.get_name()}'
-    names = sorted(f'{info.node_namespace.rstrip("/")}/{info.node_name}'
+    names = sorted(UNNAMED if info.node_name == '_NODE_NAME_UNKNOWN_'
+                   else f'{info.node_namespace.rstrip("/")}/{info.node_name}'
                    for info in node.get_publishers_info_by_topic(topic))
     for _ in range(own):
         if me in names:

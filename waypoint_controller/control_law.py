@@ -1,49 +1,39 @@
 """
 The waypoint control law: pose in, (v, omega) out. Pure Python, no ROS.
 
-Far from the goal a heading PID steers towards a guidance direction: the line of sight to the
-goal, bent towards the goal's heading axis so that the robot arrives already facing the goal
-heading and passes intermediate waypoints without stopping. For each waypoint the law picks
-forward or backward travel, how strongly to bend (the approach gain, 0 for none) and whether
-to pivot towards the goal before driving, and how far (the quick way to sidestep), by
-simulating itself for every combination and keeping the quickest. The bend stays below 90 degrees,
-so the robot always closes in on the goal. Speed comes from a distance PID, at full speed while
-turning, capped so that the goal never falls inside the turning circle (so the robot never
-orbits it), and zero while the goal is more than 90 degrees off the direction of travel. Well
-inside the distance tolerance the law rotates in place at full rate with deadbeat braking, and
-leaves that mode only if the robot is pushed out past a larger radius (hysteresis).
+For each waypoint the law plans the time-optimal path into its goal set (planner.py: a
+Reeds-Shepp path at full speed, cusps included, or a full-rate turn when the position is
+already close), choosing the end pose that is quickest counting the leg after it, so that
+intermediate waypoints are passed at speed. It then tracks that plan: the plan's own velocities
+are fed forward and the lab's two PIDs, on heading and on distance along the heading, correct
+the error against the plan's reference pose. When the pose strays from the plan (a disturbance,
+drifting odometry, late commands) the law plans again from where the robot is.
 """
 
 from dataclasses import dataclass
 import math
 
 from waypoint_controller.pid import PID
+from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
 
-
-APPROACH_GAINS = (0.0, 0.25, 0.75, 2.0)
-PIVOT_THRESHOLDS = (None, math.radians(5.0), math.radians(30.0), math.radians(60.0))
-PREDICTION_STEP = 0.1
-PREDICTION_HORIZON = 60.0
-
-
-def _arc(pose, linear, angular, dt):
-    """
-    Exact constant-velocity arc step for one robot: the model the law predicts with.
-
-    Same formula as stdr_lite.core.kinematics.arc_step, in scalar math because a prediction takes
-    thousands of single-robot steps, where numpy's per-call cost would dominate.
-    """
-    x, y, theta = pose
-    half_turn = 0.5 * angular * dt
-    chord = linear * dt * (math.sin(half_turn) / half_turn if half_turn else 1.0)
-    return (x + chord * math.cos(theta + half_turn), y + chord * math.sin(theta + half_turn),
-            theta + angular * dt)
+# Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
+# one control period's motion, means planning again, to the same end pose: smaller errors are
+# the PIDs' to correct, so a command that lands a period late does not set off a new plan.
+# Straying RECHOOSE_DISTANCE means choosing the end pose again too.
+REPLAN_DISTANCE = 0.02
+REPLAN_ANGLE = math.radians(2.0)
+STRAY_PERIODS = 1.5
+RECHOOSE_DISTANCE = 0.1
 
 
 def wrap(angle):
     """Wrap an angle to (-pi, pi]."""
     wrapped = math.remainder(angle, 2.0 * math.pi)
     return math.pi if wrapped == -math.pi else wrapped
+
+
+def _clamp(value, limit):
+    return max(-limit, min(limit, value))
 
 
 @dataclass(frozen=True)
@@ -60,8 +50,6 @@ class ControllerConfig:
     distance_kp: float = 5.0
     distance_ki: float = 0.0
     distance_kd: float = 0.0
-    rotate_radius: float = 0.5
-    resume_radius: float = 0.9
 
     def validate(self):
         """Raise ValueError naming the first field out of range."""
@@ -72,10 +60,11 @@ class ControllerConfig:
         for name in ('heading_ki', 'heading_kd', 'distance_ki', 'distance_kd'):
             if not getattr(self, name) >= 0.0:
                 raise ValueError(f'{name} must be >= 0, got {getattr(self, name)}')
-        if not 0.0 < self.rotate_radius < self.resume_radius <= 1.0:
-            raise ValueError('need 0 < rotate_radius < resume_radius <= 1 (fractions of '
-                             f'distance_tolerance), got {self.rotate_radius} and '
-                             f'{self.resume_radius}')
+
+    @property
+    def limits(self) -> Limits:
+        return Limits(self.max_linear_speed, self.max_angular_speed, self.distance_tolerance,
+                      self.angle_tolerance)
 
 
 def in_goal_set(pose, waypoint, config):
@@ -85,119 +74,107 @@ def in_goal_set(pose, waypoint, config):
             and abs(wrap(theta - waypoint.theta)) <= config.angle_tolerance)
 
 
-class PoseController:
-    """Drives to one waypoint pose; call start() for each new waypoint, then command()."""
+def _as_pose(waypoint):
+    return None if waypoint is None else (waypoint.x, waypoint.y, waypoint.theta)
 
-    def __init__(self, config=ControllerConfig()):
+
+class PoseController:
+    """
+    Drives into one waypoint's goal set; call start() for each new waypoint, then command().
+
+    is_free(plan), when given, vetoes plans (a footprint crossing a wall); with every plan
+    vetoed the robot stops and plan is None.
+    """
+
+    def __init__(self, config=ControllerConfig(), is_free=None):
         config.validate()
         self.config = config
+        self.is_free = is_free
         self._heading_pid = PID(config.heading_kp, config.heading_ki, config.heading_kd,
                                 config.max_angular_speed)
         self._distance_pid = PID(config.distance_kp, config.distance_ki, config.distance_kd,
                                  config.max_linear_speed)
-        self.waypoint = None
+        self.waypoint = self.next_waypoint = self.plan = None
+        self.replans = 0
+        self._elapsed = 0.0
+        self._direction = 0
 
     def reconfigure(self, config: ControllerConfig) -> None:
-        """Take new limits, tolerances and gains; the manoeuvre under way carries on."""
+        """Take new limits, tolerances and gains; the next command plans anew with them."""
         config.validate()
         self.config = config
         self._heading_pid.retune(config.heading_kp, config.heading_ki, config.heading_kd,
                                  config.max_angular_speed)
         self._distance_pid.retune(config.distance_kp, config.distance_ki, config.distance_kd,
                                   config.max_linear_speed)
-        self.backward = False
-        self.rotating = False
-        self.pivoting = None
+        self.plan = None
 
-    def start(self, pose, waypoint, backward=None, approach_gain=None, pivot=None):
+    def start(self, pose, waypoint, next_waypoint=None, target=None):
         """
-        Aim at a new waypoint from pose.
+        Aim at a new waypoint from pose; next_waypoint, if any, is counted in choosing how.
 
-        Unless given, the direction of travel, the approach gain and the pivot (None, or how
-        far off the goal may be before driving starts: the robot first turns in place until
-        it is) are chosen by simulating this law for each candidate and keeping the quickest.
+        A target pose, if given, is aimed at instead of the quickest pose of the goal set.
         """
-        self.waypoint = waypoint
+        self.waypoint, self.next_waypoint, self.target = waypoint, next_waypoint, target
+        self._plan_from(pose, rechoose=target is None)
+
+    def _plan_from(self, pose, rechoose):
         self._heading_pid.reset()
         self._distance_pid.reset()
-        self.rotating = False
-        if backward is None:
-            backward, approach_gain, pivot = self._quickest_manoeuvre(pose)
-        self.backward = backward
-        self.approach_gain = approach_gain
-        self.pivoting = pivot
-
-    def _quickest_manoeuvre(self, pose):
-        candidates = sorted(((backward, gain, pivot) for backward in (False, True)
-                             for gain in APPROACH_GAINS for pivot in PIVOT_THRESHOLDS),
-                            key=lambda candidate: self._travel_time(pose, candidate[0]))
-        best, best_time = candidates[0], math.inf
-        for candidate in candidates:
-            predicted = self._predict(pose, *candidate, limit=best_time)
-            if predicted < best_time:
-                best, best_time = candidate, predicted
-        return best
-
-    def _predict(self, pose, backward, gain, pivot, limit):
-        """Seconds this law would take to the goal set with these choices (inf past limit)."""
-        model = PoseController(self.config)
-        model.start(pose, self.waypoint, backward, gain, pivot)
-        elapsed = 0.0
-        while not in_goal_set(pose, self.waypoint, self.config):
-            if elapsed >= min(limit, PREDICTION_HORIZON):
-                return math.inf
-            linear, angular = model.command(pose, PREDICTION_STEP)
-            pose = _arc(pose, linear, angular, PREDICTION_STEP)
-            elapsed += PREDICTION_STEP
-        return elapsed
-
-    def _travel_time(self, pose, backward):
-        """Estimate the time to the waypoint: driving plus the turning it needs."""
-        x, y, theta = pose
-        flip = math.pi if backward else 0.0
-        distance = math.hypot(self.waypoint.x - x, self.waypoint.y - y)
-        line_of_sight = math.atan2(self.waypoint.y - y, self.waypoint.x - x)
-        turning = (abs(wrap(line_of_sight - theta - flip))
-                   + abs(wrap(self.waypoint.theta + flip - line_of_sight)))
-        return (distance / self.config.max_linear_speed
-                + turning / self.config.max_angular_speed)
+        self._elapsed = 0.0
+        limits = self.config.limits
+        plan = None
+        if not rechoose:
+            plan = fastest_plan(pose, self.target, limits, self._direction)
+            if self.is_free is not None and not self.is_free(plan):
+                plan = None
+        if plan is None:
+            plan = plan_to_goal_set(pose, _as_pose(self.waypoint), limits,
+                                    _as_pose(self.next_waypoint), self.is_free)
+            if plan is not None:
+                self.target = plan.pose_at(plan.duration)
+        self.plan = plan
 
     def command(self, pose, dt):
         """Return (linear, angular) velocity for the next dt seconds."""
+        self._replan_if_astray(pose, dt)
+        if self.plan is None:
+            return 0.0, 0.0
         config = self.config
+        reference = self.plan.pose_at(self._elapsed)
+        ahead = self.plan.pose_at(self._elapsed + dt)
+        self._elapsed += dt
+        feed_angular = wrap(ahead[2] - reference[2]) / dt
+        half_turn = 0.5 * feed_angular * dt
+        middle = reference[2] + half_turn
+        chord = ((ahead[0] - reference[0]) * math.cos(middle)
+                 + (ahead[1] - reference[1]) * math.sin(middle))
+        feed_linear = chord / (dt * (math.sin(half_turn) / half_turn if half_turn else 1.0))
         x, y, theta = pose
-        goal = self.waypoint
-        distance = math.hypot(goal.x - x, goal.y - y)
-        if distance <= config.rotate_radius * config.distance_tolerance:
-            self.rotating = True
-        elif distance > config.resume_radius * config.distance_tolerance:
-            self.rotating = False
-        if self.rotating:
-            return 0.0, self._rotate_in_place(wrap(goal.theta - theta), dt)
-        flip = math.pi if self.backward else 0.0
-        travel_heading = theta + flip
-        line_of_sight = math.atan2(goal.y - y, goal.x - x)
-        if self.pivoting is not None:
-            sight_error = wrap(line_of_sight - travel_heading)
-            if abs(sight_error) > self.pivoting:
-                return 0.0, self._rotate_in_place(sight_error, dt)
-            self.pivoting = None
-        lead = math.atan(self.approach_gain * wrap(line_of_sight - goal.theta - flip))
-        heading_error = wrap(line_of_sight + lead - travel_heading)
-        angular = self._heading_pid.update(heading_error, dt,
-                                           kp=min(config.heading_kp, 0.9 / dt))
-        speed = self._distance_pid.update(distance, dt, kp=min(config.distance_kp, 0.9 / dt))
-        sight_error = wrap(line_of_sight - travel_heading)
-        if abs(sight_error) >= 0.5 * math.pi:
-            speed = 0.0
-        elif sight_error != 0.0:
-            speed = min(speed, config.max_angular_speed * distance
-                        / (2.0 * abs(math.sin(sight_error))))
-        return (-speed if self.backward else speed), angular
+        heading_error = wrap(reference[2] - theta)
+        distance_error = ((reference[0] - x) * math.cos(theta)
+                          + (reference[1] - y) * math.sin(theta))
+        angular = feed_angular + self._heading_pid.update(
+            heading_error, dt, kp=min(config.heading_kp, 0.9 / dt))
+        linear = feed_linear + self._distance_pid.update(
+            distance_error, dt, kp=min(config.distance_kp, 0.9 / dt))
+        linear = _clamp(linear, config.max_linear_speed)
+        if abs(linear) > 1e-9:
+            self._direction = 1 if linear > 0.0 else -1
+        return linear, _clamp(angular, config.max_angular_speed)
 
-    def _rotate_in_place(self, error, dt):
-        """Turn at full rate, braking so the last step lands on the goal heading."""
-        return math.copysign(min(self.config.max_angular_speed, abs(error) / dt), error)
+    def _replan_if_astray(self, pose, dt):
+        if self.plan is None:
+            self._plan_from(pose, rechoose=True)
+            return
+        reference = self.plan.pose_at(self._elapsed)
+        stray = math.hypot(pose[0] - reference[0], pose[1] - reference[1])
+        spent = self._elapsed >= self.plan.duration
+        distance_limit = max(REPLAN_DISTANCE, STRAY_PERIODS * self.config.max_linear_speed * dt)
+        angle_limit = max(REPLAN_ANGLE, STRAY_PERIODS * self.config.max_angular_speed * dt)
+        if spent or stray > distance_limit or abs(wrap(pose[2] - reference[2])) > angle_limit:
+            self.replans += 1
+            self._plan_from(pose, rechoose=spent or stray > RECHOOSE_DISTANCE)
 
 
 @dataclass(frozen=True)
@@ -211,16 +188,31 @@ class FollowerStep:
 
 
 class CourseFollower:
-    """Takes a robot through waypoints in order; each is reached on entering its goal set."""
+    """
+    Takes a robot through waypoints in order; each is reached on entering its goal set.
 
-    def __init__(self, waypoints, config=ControllerConfig()):
+    is_free vetoes plans (see PoseController); targets, if given, are the end poses to aim at,
+    one per waypoint, instead of the ones the planner would choose (to replay a given plan).
+    """
+
+    def __init__(self, waypoints, config=ControllerConfig(), is_free=None, targets=None):
         if not waypoints:
             raise ValueError('a course needs at least one waypoint')
         self.waypoints = list(waypoints)
         self.config = config
-        self._controller = PoseController(config)
+        self.targets = targets
+        self._controller = PoseController(config, is_free)
         self.next_index = 0
         self._started = False
+
+    @property
+    def controller(self) -> PoseController:
+        return self._controller
+
+    def avoid(self, is_free) -> None:
+        """Veto plans with is_free(plan) from now on (a new map): the next command re-plans."""
+        self._controller.is_free = is_free
+        self._controller.plan = None
 
     def reconfigure(self, config: ControllerConfig) -> None:
         """Use new limits, tolerances and gains from the next check or command on."""
@@ -244,14 +236,15 @@ class CourseFollower:
     def check(self, pose):
         """Advance past every waypoint whose goal set contains pose; return their indices."""
         reached = []
-        if not self._started:
-            self._controller.start(pose, self.waypoints[0])
-            self._started = True
         while not self.finished and in_goal_set(pose, self.current, self.config):
             reached.append(self.next_index)
             self.next_index += 1
-            if not self.finished:
-                self._controller.start(pose, self.current)
+        if not self.finished and (reached or not self._started):
+            self._started = True
+            index = self.next_index
+            following = self.waypoints[index + 1] if index + 1 < len(self.waypoints) else None
+            self._controller.start(pose, self.current, following,
+                                   None if self.targets is None else self.targets[index])
         return tuple(reached)
 
     def update(self, pose, dt):

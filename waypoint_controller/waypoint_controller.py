@@ -5,10 +5,12 @@ import math
 import sys
 import time
 
-from nav_msgs.msg import Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
@@ -19,6 +21,7 @@ from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
+from waypoint_controller.clearance import Clearance
 from waypoint_controller.control_law import CourseFollower
 from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course, status_qos,
                                         STATUS_TOPIC)
@@ -64,6 +67,8 @@ PARAMETERS = COURSE_PARAMETERS + (
                   GAIN, tunable=True),
     ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]', GAIN,
                   tunable=True),
+    ParameterSpec('robot_radius', 0.2, 'footprint radius kept off the walls of /map, when '
+                  'a map is published [m]', Bounds(0.0, 10.0)),
     ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
                   'simulator (or robot) that takes them so'),
 )
@@ -113,6 +118,10 @@ class WaypointController(Node):
         self._commands = VelocityPublisher(self, f'{robot}/cmd_vel', params['cmd_vel_stamped'])
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
                                                     self._on_odometry, 10).topic_name
+        self._robot_radius = params['robot_radius']
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
         self.create_timer(WATCH_PERIOD, self._watch_odometry, clock=steady)
         self._discovery = self.create_timer(FIRST_ANSWER_AFTER, self._end_grace, clock=steady)
@@ -144,6 +153,16 @@ class WaypointController(Node):
         self.finished.set_exception(ConfigError(
             f'{", ".join(others)} already publishes on {self._commands.topic_name}: '
             'one robot takes commands from one node; stop it or give robot_name'))
+
+    def _on_map(self, message):
+        """Keep the robot's plans off the walls of the map from now on."""
+        info = message.info
+        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
+        origin = info.origin.position
+        clearance = Clearance(cells, info.resolution, (origin.x, origin.y), self._robot_radius)
+        self._follower.avoid(clearance.is_free)
+        self.get_logger().info(f'planning around the walls of /map ({info.width} x '
+                               f'{info.height} cells of {info.resolution:g} m)')
 
     def _on_tuning(self, changes):
         """Keep tuned values for the next control tick, where they take effect together."""

@@ -161,3 +161,13 @@ def test_stamped_commands_and_slower_odometry_run_a_course(
     assert controller.finished.result() == 0
     assert [message.split()[0] for message in recorder.status] == [
         'STARTED', 'WAYPOINT', 'WAYPOINT', 'FINISHED']
+
+
+def test_a_waypoint_beside_a_wall_facing_away_is_reached_off_the_wall(ros_context, executor,
+                                                                      tmp_path):
+    course = tmp_path / 'course.txt'
+    course.write_text('0.8 3 90\n0.75 2.5 0\n')
+    controller, recorder = run_course(ros_context, executor, course)
+    assert controller.finished.result() == 0
+    wall_side = 0.35 + 0.2
+    assert min(x for x, _, _ in recorder.poses) > wall_side
