@@ -99,14 +99,17 @@ def _spread(values):
     return float(np.median(values)), float(np.percentile(values, 90))
 
 
-def replayed_optimum(courses, config, dt):
-    """Replay the optimum chain of every course (bench/optimum.py) in the loop at dt."""
+def optimum_chains(courses, config):
+    """Return the optimum chain of every course (bench/optimum.py): an end pose per waypoint."""
     reeds_shepp = ReedsSheppTimes(config)
-    runs = []
-    for start, waypoints, _ in courses:
-        _, _, chain = course_optimum(start, waypoints, config, reeds_shepp)
-        runs.append(replay(start, waypoints, chain, config, dt))
-    return runs
+    return [course_optimum(start, waypoints, config, reeds_shepp)[2]
+            for start, waypoints, _ in courses]
+
+
+def replayed_optimum(courses, chains, config, dt):
+    """Replay every course's optimum chain in the loop at dt."""
+    return [replay(start, waypoints, chain, config, dt)
+            for (start, waypoints, _), chain in zip(courses, chains)]
 
 
 HEADER = (f'{"controller":21} {"loop":22} {"success":>7} {"T/opt":>6} {"p90":>6} '
@@ -154,9 +157,10 @@ def main(argv=None):
     ours = ('waypoint_controller', lambda w: CourseFollower(w, config))
     contenders = [ours] + ([] if args.no_baseline else [
         ('rotate-drive-rotate', lambda w: RotateDriveRotate(w, config))])
+    chains = optimum_chains(courses, config)
     optimum = {}
     for dt in sorted(set(args.dt) | ({0.01} if args.rates else set())):
-        optimum[dt] = replayed_optimum(courses, config, dt)
+        optimum[dt] = replayed_optimum(courses, chains, config, dt)
     for name, make_follower in contenders:
         for dt in args.dt:
             report(name, f'dt {dt:g}', evaluate(make_follower, courses, config, Loop(dt),

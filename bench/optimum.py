@@ -24,6 +24,7 @@ from bench.courses import drive, Loop, lower_bound, random_course, time_limit
 import numpy as np
 from ompl import base as ompl_base
 from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.planner import TurnPlan
 
 EDGE_DIRECTIONS = 16
 INNER_DIRECTIONS = 8
@@ -71,30 +72,20 @@ def turn_times(starts: np.ndarray, ends: np.ndarray, config: ControllerConfig) -
     """
     Return the times of full-rate turns (either way) that also move the position to the end's.
 
-    The speed is the least-effort profile v(t) = w . heading(t); a turn counts when |w| <= V,
-    the criterion waypoint_controller's TurnPlan uses.
+    Infinite where no turn does: waypoint_controller's TurnPlan decides, so the bench and the
+    controller share one criterion.
     """
-    rate, speed = config.max_angular_speed, config.max_linear_speed
-    offset = ends[None, :, :2] - starts[:, None, :2]
-    theta0 = np.broadcast_to(starts[:, None, 2], offset.shape[:2])
-    turn = np.remainder(ends[None, :, 2] - starts[:, None, 2] + np.pi, 2 * np.pi) - np.pi
-    best = np.full(offset.shape[:2], np.inf)
-    for angle in (turn, turn - np.copysign(2 * np.pi, turn)):
-        sign = np.where(angle >= 0.0, 1.0, -1.0)
-        duration = np.abs(angle) / rate
-        scale = 4.0 * sign * rate
-        theta = theta0 + angle
-        double_sin = (np.sin(2 * theta) - np.sin(2 * theta0)) / scale
-        double_cos = (np.cos(2 * theta) - np.cos(2 * theta0)) / scale
-        xx, xy, yy = 0.5 * duration + double_sin, -double_cos, 0.5 * duration - double_sin
-        determinant = xx * yy - xy * xy
-        with np.errstate(divide='ignore', invalid='ignore'):
-            wx = (yy * offset[..., 0] - xy * offset[..., 1]) / determinant
-            wy = (xx * offset[..., 1] - xy * offset[..., 0]) / determinant
-        still = np.hypot(offset[..., 0], offset[..., 1]) < 1e-12
-        feasible = still | ((determinant > 1e-12) & (np.hypot(wx, wy) <= speed * (1 + 1e-9)))
-        best = np.where(feasible, np.minimum(best, duration), best)
-    return best
+    limits = config.limits
+    times = np.full((len(starts), len(ends)), np.inf)
+    for row, start in enumerate(map(tuple, starts)):
+        for column, end in enumerate(map(tuple, ends)):
+            offset = (end[0] - start[0], end[1] - start[1])
+            turn = math.remainder(end[2] - start[2], math.tau)
+            for angle in (turn, turn - math.copysign(math.tau, turn)):
+                plan = TurnPlan(start, angle, offset, limits)
+                if plan.feasible:
+                    times[row, column] = min(times[row, column], plan.duration)
+    return times
 
 
 def course_optimum(start, waypoints, config, reeds_shepp):

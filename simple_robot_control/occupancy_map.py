@@ -6,6 +6,7 @@ import os
 import numpy as np
 from PIL import Image
 from simple_robot_control.input_files import check_file, read_yaml
+from simple_robot_control.pose import yaw_from_quaternion
 from simple_robot_control.validation import Bounds, describe, is_finite_number
 
 OCCUPIED = 100
@@ -61,6 +62,15 @@ class OccupancyMap:
     def extent(self):
         """Return the map's (width, height) in metres."""
         return self.width * self.resolution, self.height * self.resolution
+
+    @classmethod
+    def from_grid_message(cls, message) -> 'OccupancyMap':
+        """Read a nav_msgs/OccupancyGrid (duck-typed: no ROS import here)."""
+        info = message.info
+        origin = info.origin
+        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
+        return cls(cells, info.resolution, (origin.position.x, origin.position.y,
+                                            yaw_from_quaternion(origin.orientation)))
 
 
 def load_map(yaml_path):

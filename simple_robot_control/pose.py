@@ -32,6 +32,12 @@ def set_pose(pose, x: float, y: float, theta: float) -> None:
     set_yaw(pose.orientation, theta)
 
 
+def wrap_angle(angle: float) -> float:
+    """Wrap an angle to (-pi, pi]: one value for each heading."""
+    wrapped = math.remainder(angle, math.tau)
+    return math.pi if wrapped == -math.pi else wrapped
+
+
 def compose(first: tuple, second: tuple) -> tuple:
     """Return the planar transform first * second: second expressed in first's parent frame."""
     x, y, theta = first

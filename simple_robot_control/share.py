@@ -1,5 +1,6 @@
 """Locate the files this package installs (maps, robots, waypoint courses, launch files)."""
 
+import glob
 import os
 import sys
 
@@ -26,3 +27,10 @@ def share_directory() -> str:
 def shared_file(*parts: str) -> str:
     """Path of a file under the share directory."""
     return os.path.join(share_directory(), *parts)
+
+
+def bundled_files(*folders: str) -> dict:
+    """Return the YAML files installed in share folders by name (file name less .yaml)."""
+    paths = sorted((path for folder in folders
+                    for path in glob.glob(shared_file(folder, '*.yaml'))), key=os.path.basename)
+    return {os.path.splitext(os.path.basename(path))[0]: path for path in paths}

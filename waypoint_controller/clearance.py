@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 from scipy.ndimage import distance_transform_edt
-from simple_robot_control.occupancy_map import OCCUPIED
+from simple_robot_control.occupancy_map import OccupancyMap
 from waypoint_controller.planner import plan_poses
 
 # Plans keep this much more than the robot's radius from walls: tracking is not exact.
@@ -19,14 +19,15 @@ MARGIN = 0.01
 
 
 class Clearance:
-    """Distances to the nearest wall over a grid whose row 0 is at the bottom."""
+    """Distances to the nearest wall over an occupancy map."""
 
-    def __init__(self, cells: np.ndarray, resolution: float, origin: tuple, robot_radius: float):
-        occupied = np.asarray(cells) >= OCCUPIED
-        self.resolution, self.origin, self.robot_radius = resolution, origin, robot_radius
+    def __init__(self, occupancy_map: OccupancyMap, robot_radius: float):
+        occupied = occupancy_map.occupied
+        self.resolution, self.robot_radius = occupancy_map.resolution, robot_radius
+        self.origin = occupancy_map.origin
         if occupied.any():
             # From a cell's centre to the nearest wall cell's edge, not its centre.
-            self._field = (distance_transform_edt(~occupied) - 0.5) * resolution
+            self._field = (distance_transform_edt(~occupied) - 0.5) * self.resolution
         else:
             self._field = np.full(occupied.shape, math.inf)
 

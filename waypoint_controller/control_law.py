@@ -13,6 +13,7 @@ drifting odometry, late commands) the law plans again from where the robot is.
 from dataclasses import dataclass
 import math
 
+from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
 
@@ -24,12 +25,6 @@ REPLAN_DISTANCE = 0.02
 REPLAN_ANGLE = math.radians(2.0)
 STRAY_PERIODS = 1.5
 RECHOOSE_DISTANCE = 0.1
-
-
-def wrap(angle):
-    """Wrap an angle to (-pi, pi]."""
-    wrapped = math.remainder(angle, 2.0 * math.pi)
-    return math.pi if wrapped == -math.pi else wrapped
 
 
 def _clamp(value, limit):

@@ -12,6 +12,7 @@ that is quickest to reach and to leave towards the next waypoint.
 from dataclasses import dataclass
 import math
 
+from simple_robot_control.pose import wrap_angle
 from waypoint_controller.reeds_shepp import advance, path_length, relative_goal, shortest_path
 
 # End poses are aimed this far inside the goal set (fractions of the tolerances), so that the
@@ -107,10 +108,6 @@ class TurnPlan:
                 self.start[2] + self._sign * self.limits.rate * time)
 
 
-def _wrap(angle):
-    return math.remainder(angle, 2.0 * math.pi)
-
-
 def fastest_plan(start, target, limits: Limits, direction: int = 0):
     """
     Return the quicker of the Reeds-Shepp path and the feasible full-rate turns to target.
@@ -128,7 +125,7 @@ def fastest_plan(start, target, limits: Limits, direction: int = 0):
     offset = (target[0] - start[0], target[1] - start[1])
     if math.hypot(*offset) > 2.0 * limits.distance:
         return best
-    turn = _wrap(target[2] - start[2])
+    turn = wrap_angle(target[2] - start[2])
     for angle in (turn, turn - math.copysign(2.0 * math.pi, turn)):
         if abs(angle) / limits.rate <= best.duration + 1e-9:
             plan = TurnPlan(start, angle, offset, limits)

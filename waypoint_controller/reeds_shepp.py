@@ -15,6 +15,8 @@ dependency, and rosdep has no key for OMPL's Python bindings.
 from dataclasses import dataclass
 import math
 
+from simple_robot_control.pose import wrap_angle
+
 LEFT, STRAIGHT, RIGHT = 1, 0, -1
 HALF_PI = 0.5 * math.pi
 _SLACK = 1e-10
@@ -28,15 +30,10 @@ class Segment:
     length: float
 
 
-def _angle(value):
-    """Wrap to [-pi, pi]."""
-    return math.remainder(value, 2.0 * math.pi)
-
-
 def _left_straight_left(x, y, phi):
     xi, eta = x - math.sin(phi), y - 1.0 + math.cos(phi)
     u, t = math.hypot(xi, eta), math.atan2(eta, xi)
-    v = _angle(phi - t)
+    v = wrap_angle(phi - t)
     return (t, u, v) if t >= -_SLACK and v >= -_SLACK else None
 
 
@@ -45,8 +42,8 @@ def _left_straight_right(x, y, phi):
     if rho < 2.0:
         return None
     u = math.sqrt((rho - 2.0) * (rho + 2.0))
-    t = _angle(math.atan2(y - 1.0 - math.cos(phi), x + math.sin(phi)) + math.atan2(2.0, u))
-    v = _angle(t - phi)
+    t = wrap_angle(math.atan2(y - 1.0 - math.cos(phi), x + math.sin(phi)) + math.atan2(2.0, u))
+    v = wrap_angle(t - phi)
     return (t, u, v) if t >= -_SLACK and v >= -_SLACK else None
 
 
@@ -56,19 +53,19 @@ def _left_right_left(x, y, phi):
     if rho > 4.0:
         return None
     u = -2.0 * math.asin(0.25 * rho)
-    t = _angle(math.atan2(eta, xi) + 0.5 * u + math.pi)
-    v = _angle(phi - t + u)
+    t = wrap_angle(math.atan2(eta, xi) + 0.5 * u + math.pi)
+    v = wrap_angle(phi - t + u)
     return (t, u, v) if t >= -_SLACK and u <= _SLACK else None
 
 
 def _tau_omega(u, v, xi, eta, phi):
-    delta = _angle(u - v)
+    delta = wrap_angle(u - v)
     a = math.sin(u) - math.sin(delta)
     b = math.cos(u) - math.cos(delta) - 1.0
     t1 = math.atan2(eta * a - xi * b, xi * a + eta * b)
     t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
-    tau = _angle(t1 + math.pi) if t2 < 0.0 else _angle(t1)
-    return tau, _angle(tau - u + v - phi)
+    tau = wrap_angle(t1 + math.pi) if t2 < 0.0 else wrap_angle(t1)
+    return tau, wrap_angle(tau - u + v - phi)
 
 
 def _left_right_left_right_shrinking(x, y, phi):
@@ -100,8 +97,8 @@ def _left_right_straight_left(x, y, phi):
         return None
     r = math.sqrt(rho * rho - 4.0)
     u = 2.0 - r
-    t = _angle(math.atan2(eta, xi) + math.atan2(r, -2.0))
-    v = _angle(phi - HALF_PI - t)
+    t = wrap_angle(math.atan2(eta, xi) + math.atan2(r, -2.0))
+    v = wrap_angle(phi - HALF_PI - t)
     return (t, -HALF_PI, u, v) if t >= -_SLACK and u <= _SLACK and v <= _SLACK else None
 
 
@@ -112,7 +109,7 @@ def _left_right_straight_right(x, y, phi):
         return None
     t = math.atan2(xi, -eta)
     u = 2.0 - rho
-    v = _angle(t + HALF_PI - phi)
+    v = wrap_angle(t + HALF_PI - phi)
     return (t, -HALF_PI, u, v) if t >= -_SLACK and u <= _SLACK and v <= _SLACK else None
 
 
@@ -124,8 +121,8 @@ def _left_right_straight_left_right(x, y, phi):
     u = 4.0 - math.sqrt(rho * rho - 4.0)
     if u > _SLACK:
         return None
-    t = _angle(math.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
-    v = _angle(t - phi)
+    t = wrap_angle(math.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
+    v = wrap_angle(t - phi)
     return (t, -HALF_PI, u, -HALF_PI, v) if t >= -_SLACK and v >= -_SLACK else None
 
 
@@ -211,4 +208,4 @@ def relative_goal(start, goal, radius: float) -> tuple:
     dx, dy = goal[0] - start[0], goal[1] - start[1]
     cos_t, sin_t = math.cos(start[2]), math.sin(start[2])
     return ((cos_t * dx + sin_t * dy) / radius, (-sin_t * dx + cos_t * dy) / radius,
-            _angle(goal[2] - start[2]))
+            wrap_angle(goal[2] - start[2]))

@@ -6,7 +6,6 @@ import sys
 import time
 
 from nav_msgs.msg import OccupancyGrid, Odometry
-import numpy as np
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
 from rclpy.node import Node
@@ -17,6 +16,7 @@ from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME, other_publishers
 from simple_robot_control.node_runtime import (accept_tuning, build_parser, ConfigError,
                                                declare_parameters, ParameterSpec, run)
+from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
@@ -156,13 +156,10 @@ class WaypointController(Node):
 
     def _on_map(self, message):
         """Keep the robot's plans off the walls of the map from now on."""
-        info = message.info
-        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
-        origin = info.origin.position
-        clearance = Clearance(cells, info.resolution, (origin.x, origin.y), self._robot_radius)
-        self._follower.avoid(clearance.is_free)
-        self.get_logger().info(f'planning around the walls of /map ({info.width} x '
-                               f'{info.height} cells of {info.resolution:g} m)')
+        grid = OccupancyMap.from_grid_message(message)
+        self._follower.avoid(Clearance(grid, self._robot_radius).is_free)
+        self.get_logger().info(f'planning around the walls of /map ({grid.width} x '
+                               f'{grid.height} cells of {grid.resolution:g} m)')
 
     def _on_tuning(self, changes):
         """Keep tuned values for the next control tick, where they take effect together."""

@@ -11,10 +11,9 @@ import glob
 import os
 
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.occupancy_map import (load_map, MapError, MapImageError,
                                                 MapTooLargeError)
-from simple_robot_control.share import shared_file
+from simple_robot_control.share import bundled_files
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import (Resource, Result, SimulationState, SimulatorFeatures,
                                        WorldResource)
@@ -23,9 +22,8 @@ from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetS
                                        SetSimulationState, StepSimulation, UnloadWorld)
 from stdr_lite.core.spawnables import path_of, SPAWN_FORMATS, SpawnResourceError
 from stdr_lite.core.world import PlacementError
+from stdr_lite.node.answers import answering, Refusal, result, SERVICE_QOS
 
-# Requests are queued whole however many come at once: no burst loses one.
-SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 # StepSimulation takes its steps inside the call, so it is kept short; the action takes more.
 MAX_SERVICE_STEPS = 10_000
 FEATURES = SimulatorFeatures
@@ -46,10 +44,6 @@ CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of unicycle robots 
 STATE = SimulationState
 
 
-def result(code=Result.RESULT_OK, message=''):
-    return Result(result=code, error_message=message)
-
-
 def world_resource(path):
     """Describe a map_server map file as a standard world."""
     name = os.path.splitext(os.path.basename(path))[0]
@@ -64,8 +58,10 @@ class SimulationControl:
         self._node = node
         self._world = node.simulation.occupancy_map.source
         self._stepping = False
+        # GetSimulatorFeatures has no result field: it is the one service answered as is.
+        node.create_service(GetSimulatorFeatures, '~/get_simulator_features', self._features,
+                            qos_profile=SERVICE_QOS)
         for kind, name, callback in (
-                (GetSimulatorFeatures, 'get_simulator_features', self._features),
                 (GetSimulationState, 'get_simulation_state', self._get_state),
                 (SetSimulationState, 'set_simulation_state', self._set_state),
                 (StepSimulation, 'step_simulation', self._step),
@@ -74,7 +70,7 @@ class SimulationControl:
                 (LoadWorld, 'load_world', self._load_world),
                 (GetCurrentWorld, 'get_current_world', self._current_world),
                 (UnloadWorld, 'unload_world', self._unload_world)):
-            node.create_service(kind, f'~/{name}', callback, qos_profile=SERVICE_QOS)
+            node.create_service(kind, f'~/{name}', answering(callback), qos_profile=SERVICE_QOS)
         ActionServer(node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
                      goal_callback=self._accept_goal,
                      cancel_callback=lambda _: CancelResponse.ACCEPT)
@@ -91,47 +87,38 @@ class SimulationControl:
 
     def _get_state(self, request, response):
         response.state.state = self._state
-        response.result = result()
-        return response
 
     def _set_state(self, request, response):
         target, stepper = request.state.state, self._node.stepper
         if target == self._state:
-            response.result = result(response.ALREADY_IN_TARGET_STATE,
-                                     f'the simulation is in state {target} already')
-        elif target == STATE.STATE_QUITTING:
-            response.result = result()
+            raise Refusal(response.ALREADY_IN_TARGET_STATE,
+                          f'the simulation is in state {target} already')
+        if target == STATE.STATE_QUITTING:
             self._node.quit_soon()
         elif self._state == STATE.STATE_NO_WORLD:
-            response.result = result(response.INCORRECT_TRANSITION,
-                                     'no world is loaded: call load_world first')
+            raise Refusal(response.INCORRECT_TRANSITION,
+                          'no world is loaded: call load_world first')
         elif target in (STATE.STATE_PLAYING, STATE.STATE_PAUSED):
             stepper.set_state(target)
-            response.result = result()
         elif target == STATE.STATE_STOPPED:
             self._node.simulation.reset()
             self._node.restarted()
             stepper.set_state(target)
-            response.result = result()
         else:
-            response.result = result(response.INCORRECT_TRANSITION,
-                                     f'state {target} is reached through load_world or '
-                                     'unload_world, not set')
-        return response
+            raise Refusal(response.INCORRECT_TRANSITION,
+                          f'state {target} is reached through load_world or unload_world, '
+                          'not set')
 
     def _step(self, request, response):
         if self._state != STATE.STATE_PAUSED:
-            response.result = result(Result.RESULT_INCORRECT_STATE,
-                                     'step_simulation steps a paused simulation: pause it first')
-        elif request.steps > MAX_SERVICE_STEPS:
-            response.result = result(Result.RESULT_OPERATION_FAILED,
-                                     f'step_simulation takes at most {MAX_SERVICE_STEPS} steps; '
-                                     'the simulate_steps action takes any number')
-        else:
-            for _ in range(request.steps):
-                self._node.stepper.step_now()
-            response.result = result()
-        return response
+            raise Refusal(Result.RESULT_INCORRECT_STATE,
+                          'step_simulation steps a paused simulation: pause it first')
+        if request.steps > MAX_SERVICE_STEPS:
+            raise Refusal(Result.RESULT_OPERATION_FAILED,
+                          f'step_simulation takes at most {MAX_SERVICE_STEPS} steps; '
+                          'the simulate_steps action takes any number')
+        for _ in range(request.steps):
+            self._node.stepper.step_now()
 
     def _accept_goal(self, goal):
         return GoalResponse.REJECT if self._stepping else GoalResponse.ACCEPT
@@ -171,27 +158,21 @@ class SimulationControl:
         if scope in (request.SCOPE_DEFAULT, request.SCOPE_ALL):
             scope = request.SCOPE_TIME | request.SCOPE_STATE | request.SCOPE_SPAWNED
         if scope & ~(request.SCOPE_TIME | request.SCOPE_STATE | request.SCOPE_SPAWNED):
-            response.result = result(Result.RESULT_FEATURE_UNSUPPORTED,
-                                     f'unknown scope bits in {request.scope}; the scopes are '
-                                     'TIME (1), STATE (2), SPAWNED (4), ALL (255)')
-            return response
+            raise Refusal(Result.RESULT_FEATURE_UNSUPPORTED,
+                          f'unknown scope bits in {request.scope}; the scopes are '
+                          'TIME (1), STATE (2), SPAWNED (4), ALL (255)')
         try:
             self._node.simulation.reset(time=bool(scope & request.SCOPE_TIME),
                                         state=bool(scope & request.SCOPE_STATE),
                                         spawned=bool(scope & request.SCOPE_SPAWNED))
         except PlacementError as error:
-            response.result = result(Result.RESULT_OPERATION_FAILED, str(error))
-            return response
+            raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
         self._node.restarted()
-        response.result = result()
-        return response
 
     def _available_worlds(self, request, response):
         if request.filter.tags:
-            response.result = result(Result.RESULT_FEATURE_UNSUPPORTED,
-                                     'worlds have no tags here')
-            return response
-        paths = sorted(glob.glob(shared_file('maps', '*.yaml')))
+            raise Refusal(Result.RESULT_FEATURE_UNSUPPORTED, 'worlds have no tags here')
+        paths = list(bundled_files('maps').values())
         unreadable = []
         for source in request.additional_sources:
             source = path_of(source, {}) if source.startswith('file:') else source
@@ -202,64 +183,46 @@ class SimulationControl:
             else:
                 unreadable.append(source)
         if unreadable and not request.continue_on_error:
-            response.result = result(Result.RESULT_OPERATION_FAILED,
-                                     f'no such source: {", ".join(unreadable)}')
-            return response
+            raise Refusal(Result.RESULT_OPERATION_FAILED,
+                          f'no such source: {", ".join(unreadable)}')
         response.worlds = [world_resource(path) for path in paths if _is_map(path)]
-        response.result = result(message=f'not found: {", ".join(unreadable)}'
-                                 if unreadable else '')
-        return response
+        return f'not found: {", ".join(unreadable)}' if unreadable else ''
 
     def _load_world(self, request, response):
         if not request.uri:
-            response.result = (result(response.NO_RESOURCE, 'give the uri of a map_server YAML')
-                               if not request.resource_string else result(
-                                   Result.RESULT_FEATURE_UNSUPPORTED,
-                                   'worlds load from files only; give a uri'))
-            return response
-        bundled = {os.path.splitext(os.path.basename(path))[0]: path
-                   for path in glob.glob(shared_file('maps', '*.yaml'))}
+            if request.resource_string:
+                raise Refusal(Result.RESULT_FEATURE_UNSUPPORTED,
+                              'worlds load from files only; give a uri')
+            raise Refusal(response.NO_RESOURCE, 'give the uri of a map_server YAML')
         try:
-            path = path_of(request.uri, bundled)
+            path = path_of(request.uri, bundled_files('maps'))
         except SpawnResourceError as error:
-            response.result = result(response.UNSUPPORTED_FORMAT, str(error))
-            return response
+            raise Refusal(response.UNSUPPORTED_FORMAT, str(error)) from None
         if not path.endswith(('.yaml', '.yml')):
-            response.result = result(response.UNSUPPORTED_FORMAT,
-                                     f'{request.uri}: worlds are map_server YAML files')
-            return response
+            raise Refusal(response.UNSUPPORTED_FORMAT,
+                          f'{request.uri}: worlds are map_server YAML files')
         if not os.path.isfile(path):
-            response.result = result(Result.RESULT_NOT_FOUND, f'{request.uri}: no such file')
-            return response
+            raise Refusal(Result.RESULT_NOT_FOUND, f'{request.uri}: no such file')
         try:
             self._node.simulation.load_map(load_map(path))
         except (MapError, PlacementError) as error:
-            response.result = result(_load_failure_code(response, error), str(error))
-            return response
+            raise Refusal(_load_failure_code(response, error), str(error)) from None
         self._world = path
         self._node.restarted(new_map=True)
         self._node.stepper.set_state(STATE.STATE_STOPPED)
         response.world = world_resource(path)
-        response.result = result()
-        return response
 
     def _current_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
-            response.result = result(response.NO_WORLD_LOADED, 'no world is loaded')
-        else:
-            response.world = world_resource(self._world)
-            response.result = result()
-        return response
+            raise Refusal(response.NO_WORLD_LOADED, 'no world is loaded')
+        response.world = world_resource(self._world)
 
     def _unload_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
-            response.result = result(response.NO_WORLD_LOADED, 'no world is loaded')
-            return response
+            raise Refusal(response.NO_WORLD_LOADED, 'no world is loaded')
         self._node.simulation.reset(time=False, state=False, spawned=True)
         self._node.stepper.set_state(STATE.STATE_NO_WORLD)
         self._node.sync_entities()
-        response.result = result()
-        return response
 
 
 def _is_map(path):

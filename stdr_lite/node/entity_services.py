@@ -13,7 +13,7 @@ import re
 
 from geometry_msgs.msg import Vector3
 from simple_robot_control.pose import planar_pose, set_pose
-from simple_robot_control.share import shared_file
+from simple_robot_control.share import bundled_files, shared_file
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
 from simulation_interfaces.msg import (Bounds, EntityCategory, EntityInfo, EntityState, Result,
                                        SimulationState, Spawnable, SpawnResult, TagsFilter)
@@ -25,7 +25,7 @@ from stdr_lite.core.regions import overlaps_box, overlaps_circle, overlaps_hull
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.control_services import result, SERVICE_QOS
+from stdr_lite.node.answers import answering, Refusal, result, SERVICE_QOS
 from stdr_lite.node.messages import set_stamp
 
 CATEGORIES = {Category.ROBOT: EntityCategory.CATEGORY_ROBOT,
@@ -35,14 +35,6 @@ RESOURCE_CODES = {'no_resource': SpawnResult.NO_RESOURCE,
                   'unsupported_format': SpawnResult.UNSUPPORTED_FORMAT,
                   'missing_assets': SpawnResult.MISSING_ASSETS,
                   'parse_error': SpawnResult.RESOURCE_PARSE_ERROR}
-
-
-class Refusal(Exception):
-    """A request refused with a standard result code."""
-
-    def __init__(self, code, message):
-        super().__init__(message)
-        self.code = code
 
 
 class EntityServices:
@@ -62,19 +54,7 @@ class EntityServices:
                 (SetEntityState, 'set_entity_state', self._set_state),
                 (GetEntityBounds, 'get_entity_bounds', self._bounds),
                 (GetSpawnables, 'get_spawnables', self._spawnables)):
-            node.create_service(kind, f'~/{name}', self._answering(callback),
-                                qos_profile=SERVICE_QOS)
-
-    @staticmethod
-    def _answering(callback):
-        """Answer with OK (and any note callback returns), or with the Refusal it raises."""
-        def serve(request, response):
-            try:
-                response.result = result(message=callback(request, response) or '')
-            except Refusal as refusal:
-                response.result = result(refusal.code, str(refusal))
-            return response
-        return serve
+            node.create_service(kind, f'~/{name}', answering(callback), qos_profile=SERVICE_QOS)
 
     def _spawn_one(self, request, response):
         response.entity_name = self._spawn(request.name, request.allow_renaming, request.uri,
@@ -106,11 +86,8 @@ class EntityServices:
         """Spawn one entity; return the name it got, or raise Refusal with the spawn code."""
         if self._node.stepper.state == SimulationState.STATE_NO_WORLD:
             raise Refusal(Result.RESULT_INCORRECT_STATE, 'no world is loaded')
-        bundled = {os.path.splitext(os.path.basename(path))[0]: path for path in
-                   glob.glob(shared_file('robots', '*.yaml'))
-                   + glob.glob(shared_file('obstacles', '*.yaml'))}
         try:
-            spec = load_resource(uri, resource_string, bundled)
+            spec = load_resource(uri, resource_string, bundled_files('robots', 'obstacles'))
         except SpawnResourceError as error:
             raise Refusal(RESOURCE_CODES[error.kind], str(error)) from None
         is_robot = isinstance(spec, RobotDescription)
@@ -254,8 +231,7 @@ class EntityServices:
             Vector3(x=radius, y=radius), Vector3(x=-radius, y=-radius)])
 
     def _spawnables(self, request, response):
-        paths = sorted(glob.glob(shared_file('robots', '*.yaml'))
-                       + glob.glob(shared_file('obstacles', '*.yaml')), key=os.path.basename)
+        paths = list(bundled_files('robots', 'obstacles').values())
         unknown = []
         for source in request.sources:
             if os.path.isdir(source):

@@ -9,7 +9,6 @@ services or its SimulateSteps action. The answer is printed; the exit code is 0 
 
 import argparse
 from dataclasses import dataclass, field
-import math
 import sys
 from typing import Callable
 
@@ -22,6 +21,7 @@ from rclpy.task import Future
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.node_runtime import run
 from simple_robot_control.pose import pose_from_message, set_pose
+from simple_robot_control.validation import parse_decimal
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import (EntityCategory, EntityFilters, EntityState, Result,
                                        SimulationState, SimulatorFeatures)
@@ -83,12 +83,9 @@ class Call:
 
 
 def finite(text: str) -> float:
-    """Parse a finite number, for argparse."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
+    """Parse a finite number written as a plain decimal, for argparse."""
+    value = parse_decimal(text)
+    if value is None:
         raise argparse.ArgumentTypeError(f'not a finite number: {text!r}')
     return value
 

@@ -22,6 +22,7 @@ from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
                                                ParameterSpec, run)
+from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds
@@ -134,10 +135,8 @@ class StdrViewer(Node):
             Range, topic, functools.partial(self._on_sonar, robot, name), 10)
 
     def _on_map(self, message):
-        info = message.info
-        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
-        origin = message.info.origin.position
-        self.scene.set_map(cells, message.info.resolution, (origin.x, origin.y))
+        grid = OccupancyMap.from_grid_message(message)
+        self.scene.set_map(grid.cells, grid.resolution, grid.origin[:2])
         self.view.fit(self.scene.extent())
 
     def _on_static_frames(self, message):

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.clearance import Clearance
 from waypoint_controller.control_law import ControllerConfig, CourseFollower, in_goal_set
@@ -54,7 +55,7 @@ def room_with_a_wall_at_the_left():
     """Return a 4 m x 4 m map at 5 cm whose columns left of x = 0.35 m are wall."""
     cells = np.zeros((80, 80), dtype=np.int8)
     cells[:, :7] = 100
-    return Clearance(cells, 0.05, (0.0, 0.0), robot_radius=0.2)
+    return Clearance(OccupancyMap(cells, 0.05, (0.0, 0.0, 0.0)), robot_radius=0.2)
 
 
 def test_clearance_is_measured_to_the_wall_edge():

@@ -1,0 +1,35 @@
+"""
+How the simulation services answer: a standard Result, OK or a code with a reason.
+
+A callback raises Refusal to refuse; answering() turns that into the response's result, so a
+refusal is written once, where it is decided, and a refused call changes nothing.
+"""
+
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from simulation_interfaces.msg import Result
+
+# Requests are queued whole however many come at once: no burst loses one.
+SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+
+
+class Refusal(Exception):
+    """A request refused with a standard result code."""
+
+    def __init__(self, code, message):
+        super().__init__(message)
+        self.code = code
+
+
+def result(code=Result.RESULT_OK, message=''):
+    return Result(result=code, error_message=message)
+
+
+def answering(callback):
+    """Answer with OK (and any note callback returns), or with the Refusal it raises."""
+    def serve(request, response):
+        try:
+            response.result = result(message=callback(request, response) or '')
+        except Refusal as refusal:
+            response.result = result(refusal.code, str(refusal))
+        return response
+    return serve
