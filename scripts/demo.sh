@@ -14,8 +14,15 @@ picture=${PICTURE:-run.png}
 
 stdr_lite --ros-args -p lockstep:=true -p real_time_factor:="$speed" --log-level warn &
 simulator=$!
+rm -f "$record"
 course_monitor "$course" --ros-args -p record_file:="$record" --log-level warn &
 monitor=$!
+# Start the controller once the monitor has the robot's odometry (discovery can take 3 s), so
+# the record, and the picture, hold the whole run.
+for _ in $(seq 100); do
+    grep -qs '"pose"' "$record" && break
+    sleep 0.1
+done
 viewer=
 if [ -n "${VIEWER:-}" ]; then
     # A window where there is a display; offscreen otherwise, leaving its last frame.

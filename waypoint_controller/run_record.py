@@ -132,6 +132,7 @@ class RunRecordWriter:
 
     def _write(self, entry):
         self._stream.write(json.dumps(entry) + '\n')
+        self._stream.flush()
 
 
 def load_run(path: str | os.PathLike) -> RunRecord:
