@@ -1,265 +1,30 @@
 """
 stdr_ctl: the standard simulation services of stdr_lite from a shell, without ros2cli.
 
-Each command is one request (two for set-velocity) to the simulator's simulation_interfaces
-services or its SimulateSteps action. The answer is printed; the exit code is 0 for RESULT_OK,
-1 for a refusal or no simulator answering, 2 for bad arguments. On a Jazzy machine
-`ros2 service call /stdr_lite/<service> ...` does the same (see the README).
+Each command (ctl_commands.py) is one request (two for set-velocity) to the simulator's
+simulation_interfaces services or its SimulateSteps action. The answer is printed; the exit
+code is 0 for RESULT_OK, 1 for a refusal or no simulator answering, 2 for bad arguments. On a
+Jazzy machine `ros2 service call /stdr_lite/<service> ...` does the same (see the README).
 """
 
-import argparse
-from dataclasses import dataclass, field
 import sys
-from typing import Callable
+import uuid
 
-from action_msgs.msg import GoalStatus
-from rclpy.action import ActionClient
+from action_msgs.msg import GoalInfo, GoalStatus, GoalStatusArray
+from action_msgs.srv import CancelGoal
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import qos_profile_action_status_default
 from rclpy.task import Future
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.node_runtime import run
-from simple_robot_control.pose import pose_from_message, set_pose
-from simple_robot_control.validation import parse_decimal
-from simulation_interfaces.action import SimulateSteps
-from simulation_interfaces.msg import (EntityCategory, EntityFilters, EntityState, Result,
-                                       SimulationState, SimulatorFeatures)
-from simulation_interfaces.srv import (DeleteEntity, GetAvailableWorlds, GetCurrentWorld,
-                                       GetEntitiesStates, GetEntityInfo, GetEntityState,
-                                       GetSimulationState, GetSimulatorFeatures, GetSpawnables,
-                                       LoadWorld, ResetSimulation, SetEntityState,
-                                       SetSimulationState, SpawnEntity, StepSimulation,
-                                       UnloadWorld)
+from simulation_interfaces.msg import Result
+from stdr_lite.node.answers import SERVICE_QOS
+from stdr_lite.tools.ctl_commands import build_arguments, COMMANDS, constant_names
+from unique_identifier_msgs.msg import UUID
 
-DESCRIPTION = ('stdr_ctl: control a running stdr_lite through the standard simulation services '
-               '(simulation_interfaces): time, entities and worlds. Prints the answer; exit '
-               'code 0 when the simulator answers RESULT_OK, 1 when it refuses or does not '
-               'answer, 2 for bad arguments. Poses are x y in metres and theta in radians, in '
-               'the map frame.')
 POLL_PERIOD = 0.05
 ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
-# Matches the simulator's service queue: no request is dropped, however many are sent.
-SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
-STATES = {'play': SimulationState.STATE_PLAYING, 'pause': SimulationState.STATE_PAUSED,
-          'stop': SimulationState.STATE_STOPPED, 'quit': SimulationState.STATE_QUITTING}
-SCOPES = {'all': ResetSimulation.Request.SCOPE_ALL, 'time': ResetSimulation.Request.SCOPE_TIME,
-          'state': ResetSimulation.Request.SCOPE_STATE,
-          'spawned': ResetSimulation.Request.SCOPE_SPAWNED}
-CATEGORIES = {'robot': EntityCategory.CATEGORY_ROBOT,
-              'static': EntityCategory.CATEGORY_STATIC_OBJECT,
-              'moving': EntityCategory.CATEGORY_DYNAMIC_OBJECT}
-
-
-def constant_names(message_class) -> dict:
-    """Return {value: NAME} of a message class's integer constants."""
-    return {getattr(message_class, name): name for name in dir(message_class)
-            if name.isupper() and isinstance(getattr(message_class, name), int)}
-
-
-STATE_NAMES = {value: name.removeprefix('STATE_').lower()
-               for value, name in constant_names(SimulationState).items()}
-FEATURE_NAMES = {value: name.lower() for value, name in constant_names(SimulatorFeatures).items()}
-CATEGORY_NAMES = {value: name for name, value in CATEGORIES.items()}
-
-
-@dataclass
-class Call:
-    """
-    One request, what to print of its answer, and any request that follows from the answer.
-
-    kind is a service type, or the SimulateSteps action, whose answer may take any time.
-    """
-
-    kind: type
-    service: str
-    fields: dict = field(default_factory=dict)
-    report: Callable = lambda response: []
-    then: Callable = None
-
-    @property
-    def is_action(self):
-        return self.kind is SimulateSteps
-
-
-def finite(text: str) -> float:
-    """Parse a finite number written as a plain decimal, for argparse."""
-    value = parse_decimal(text)
-    if value is None:
-        raise argparse.ArgumentTypeError(f'not a finite number: {text!r}')
-    return value
-
-
-def step_count(text: str) -> int:
-    """Parse a number of steps (a whole number, at least 1), for argparse."""
-    if not text.isdigit() or int(text) < 1:
-        raise argparse.ArgumentTypeError(f'not a whole number of steps, at least 1: {text!r}')
-    return int(text)
-
-
-def format_pose(pose: tuple) -> str:
-    return f'x {pose[0]:.3f} y {pose[1]:.3f} theta {pose[2]:.4f}'
-
-
-def _state_lines(name, state):
-    twist, stamp = state.twist, state.header.stamp
-    return [f'{name}: {format_pose(pose_from_message(state.pose))}; velocity x '
-            f'{twist.linear.x:.3f} y {twist.linear.y:.3f} angular {twist.angular.z:.4f}; '
-            f'sim time {stamp.sec + stamp.nanosec * 1e-9:.3f} s']
-
-
-def _entity_state(pose, velocity=(0.0, 0.0, 0.0)):
-    state = EntityState()
-    set_pose(state.pose, *pose)
-    state.twist.linear.x, state.twist.linear.y, state.twist.angular.z = velocity
-    return state
-
-
-def _spawn(options):
-    request = SpawnEntity.Request(name=options.name,
-                                  allow_renaming=options.rename or not options.name,
-                                  entity_namespace=options.namespace)
-    if options.yaml:
-        request.resource_string = options.resource
-    else:
-        request.uri = options.resource
-    set_pose(request.initial_pose.pose, options.x, options.y, options.theta)
-    return Call(SpawnEntity, 'spawn_entity', {'request': request},
-                lambda response: [f'spawned {response.entity_name}'])
-
-
-def _set_velocity(options):
-    def with_velocity(response):
-        pose = pose_from_message(response.state.pose)
-        return Call(SetEntityState, 'set_entity_state', {'entity': options.name, 'state': (
-            _entity_state(pose, (options.vx, options.vy, options.angular)))},
-            lambda _: [f'{options.name} moves at x {options.vx:g} y {options.vy:g} m/s, '
-                       f'{options.angular:g} rad/s'])
-    return Call(GetEntityState, 'get_entity_state', {'entity': options.name}, then=with_velocity)
-
-
-def _list(options):
-    filters = EntityFilters(filter=options.regex, categories=[
-        EntityCategory(category=CATEGORIES[name]) for name in options.category])
-    return Call(GetEntitiesStates, 'get_entities_states', {'filters': filters},
-                lambda response: [line for name, state in zip(response.entities,
-                                                              response.states)
-                                  for line in _state_lines(name, state)])
-
-
-def _worlds(response):
-    return [f'{world.name}: {world.world_resource.uri}' for world in response.worlds]
-
-
-COMMANDS = {
-    'features': ('the features the simulator implements', lambda parser: None,
-                 lambda options: Call(GetSimulatorFeatures, 'get_simulator_features', report=(
-                     lambda response: [
-                         'features: ' + ' '.join(FEATURE_NAMES.get(value, str(value)) for value
-                                                 in response.features.features),
-                         'spawn formats: ' + ' '.join(response.features.spawn_formats),
-                         response.features.custom_info]))),
-    'state': ('whether the simulation plays, is paused or stopped', lambda parser: None,
-              lambda options: Call(GetSimulationState, 'get_simulation_state', report=(
-                  lambda response: [STATE_NAMES.get(response.state.state, '?')]))),
-    **{name: (f'{name} the simulation', lambda parser: None,
-              lambda options, state=state, name=name: Call(
-                  SetSimulationState, 'set_simulation_state',
-                  {'state': SimulationState(state=state)}, lambda _: [STATE_NAMES[state]]))
-       for name, state in STATES.items()},
-    'step': ('take N steps while paused, then answer (StepSimulation)',
-             lambda parser: parser.add_argument('steps', type=step_count),
-             lambda options: Call(StepSimulation, 'step_simulation', {'steps': options.steps},
-                                  lambda _: [f'stepped {options.steps}'])),
-    'simulate': ('take N steps while paused as an action, paced as when playing '
-                 '(SimulateSteps); Ctrl-C cancels',
-                 lambda parser: parser.add_argument('steps', type=step_count),
-                 lambda options: Call(SimulateSteps, 'simulate_steps', {'steps': options.steps},
-                                      lambda _: [f'simulated {options.steps}'])),
-    'reset': ('reset time, state and spawned entities, or the scopes given',
-              lambda parser: parser.add_argument('scope', nargs='*', choices=sorted(SCOPES)),
-              lambda options: Call(ResetSimulation, 'reset_simulation', {'scope': sum(
-                  {SCOPES[name] for name in options.scope}) if options.scope and 'all' not in (
-                  options.scope) else SCOPES['all']}, lambda _: ['reset'])),
-    'list': ('entities with their poses and velocities', lambda parser: (
-        parser.add_argument('regex', nargs='?', default='', help='names matching this'),
-        parser.add_argument('--category', action='append', default=[],
-                            choices=sorted(CATEGORIES))), _list),
-    'info': ('what an entity is', lambda parser: parser.add_argument('name'),
-             lambda options: Call(GetEntityInfo, 'get_entity_info', {'entity': options.name},
-                                  lambda response: [
-                                      f'{options.name}: '
-                                      f'{CATEGORY_NAMES.get(response.info.category.category)}; '
-                                      f'{response.info.description}; tags '
-                                      f'{" ".join(response.info.tags)}'])),
-    'get': ("an entity's pose and velocity", lambda parser: parser.add_argument('name'),
-            lambda options: Call(GetEntityState, 'get_entity_state', {'entity': options.name},
-                                 lambda response: _state_lines(options.name, response.state))),
-    'spawn': ('add a robot or obstacle: RESOURCE is a bundled spawnable (lab_robot, obstacle, '
-              'moving_obstacle), a file path or file:// URI, or with --yaml the YAML itself',
-              lambda parser: (
-                  parser.add_argument('resource'), parser.add_argument('x', type=finite),
-                  parser.add_argument('y', type=finite),
-                  parser.add_argument('theta', type=finite, nargs='?', default=0.0),
-                  parser.add_argument('--name', default='', help='default: the first free '
-                                      'of robot0, robot1, ... (obstacle0, ...)'),
-                  parser.add_argument('--namespace', default='', help="a robot's topics; "
-                                      'default: its name'),
-                  parser.add_argument('--rename', action='store_true',
-                                      help='take another name if this one is taken'),
-                  parser.add_argument('--yaml', action='store_true',
-                                      help='RESOURCE is the YAML text')), _spawn),
-    'delete': ('remove an entity', lambda parser: parser.add_argument('name'),
-               lambda options: Call(DeleteEntity, 'delete_entity', {'entity': options.name},
-                                    lambda _: [f'deleted {options.name}'])),
-    'move': ('teleport an entity to a pose, standing still', lambda parser: (
-        parser.add_argument('name'), parser.add_argument('x', type=finite),
-        parser.add_argument('y', type=finite),
-        parser.add_argument('theta', type=finite, nargs='?', default=0.0)),
-        lambda options: Call(SetEntityState, 'set_entity_state', {
-            'entity': options.name,
-            'state': _entity_state((options.x, options.y, options.theta))},
-            lambda _: [f'{options.name} at {format_pose((options.x, options.y, options.theta))}'
-                       ])),
-    'set-velocity': ('set an entity moving: x y in m/s (map frame; a robot only along its '
-                     'heading), angular in rad/s', lambda parser: (
-                         parser.add_argument('name'), parser.add_argument('vx', type=finite),
-                         parser.add_argument('vy', type=finite),
-                         parser.add_argument('angular', type=finite)), _set_velocity),
-    'spawnables': ('what can be spawned, and from the folders given',
-                   lambda parser: parser.add_argument('folders', nargs='*'),
-                   lambda options: Call(GetSpawnables, 'get_spawnables',
-                                        {'sources': options.folders}, lambda response: [
-                                            f'{item.uri}: {item.description}'
-                                            for item in response.spawnables])),
-    'worlds': ('the maps that can be loaded, and those in the folders given',
-               lambda parser: parser.add_argument('folders', nargs='*'),
-               lambda options: Call(GetAvailableWorlds, 'get_available_worlds',
-                                    {'additional_sources': options.folders}, _worlds)),
-    'world': ('the map loaded now', lambda parser: None,
-              lambda options: Call(GetCurrentWorld, 'get_current_world', report=(
-                  lambda response: [f'{response.world.name}: '
-                                    f'{response.world.world_resource.uri}']))),
-    'load-world': ('switch to a map: a bundled map name, a map_server YAML path or file:// URI',
-                   lambda parser: parser.add_argument('uri'),
-                   lambda options: Call(LoadWorld, 'load_world', {'uri': options.uri},
-                                        lambda response: [f'loaded {response.world.name}'])),
-    'unload-world': ('take the map and every entity away', lambda parser: None,
-                     lambda options: Call(UnloadWorld, 'unload_world',
-                                          report=lambda _: ['unloaded'])),
-}
-
-
-def build_arguments() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog='stdr_ctl', description=DESCRIPTION)
-    parser.add_argument('--simulator', default='/stdr_lite',
-                        help='the simulator node whose services to call (default /stdr_lite)')
-    parser.add_argument('--timeout', type=finite, default=10.0,
-                        help='seconds to wait for the simulator to answer (default 10)')
-    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
-    for name, (summary, add_arguments, _) in COMMANDS.items():
-        add_arguments(commands.add_parser(name, help=summary, description=summary))
-    return parser
 
 
 class StdrCtl(Node):
@@ -273,6 +38,8 @@ class StdrCtl(Node):
         self._clock = Clock(clock_type=ClockType.STEADY_TIME)
         self._call = self._client = self._answer = self._goal = None
         self._deadline = 0
+        self._results = self._cancel = self._goal_status = None
+        self._accepted_goal = False
         self.create_timer(POLL_PERIOD, self._check, clock=self._clock)
         self._start(COMMANDS[options.command][2](options))
 
@@ -280,10 +47,27 @@ class StdrCtl(Node):
         return f'{self._options.simulator.rstrip("/")}/{service}'
 
     def _start(self, call):
-        self._call, self._answer = call, None
-        self._client = (ActionClient(self, call.kind, self._name(call.service)) if call.is_action
-                        else self.create_client(call.kind, self._name(call.service),
-                                                qos_profile=SERVICE_QOS))
+        """
+        Make the clients of a call: a service's, or the three services of the action.
+
+        The action is driven through its services and status topic directly, so that a goal
+        whose acceptance reply was lost is still followed: the status topic shows it.
+        """
+        self._call, self._answer, self._accepted_goal = call, None, False
+        name = self._name(call.service)
+        if call.is_action:
+            action = call.kind.Impl
+            self._client = self.create_client(action.SendGoalService, f'{name}/_action/send_goal',
+                                              qos_profile=SERVICE_QOS)
+            self._results = self.create_client(action.GetResultService,
+                                               f'{name}/_action/get_result',
+                                               qos_profile=SERVICE_QOS)
+            self._cancel = self.create_client(CancelGoal, f'{name}/_action/cancel_goal',
+                                              qos_profile=SERVICE_QOS)
+            self.create_subscription(GoalStatusArray, f'{name}/_action/status',
+                                     self._on_goal_status, qos_profile_action_status_default)
+        else:
+            self._client = self.create_client(call.kind, name, qos_profile=SERVICE_QOS)
         self._deadline = self._later()
 
     def _later(self):
@@ -295,12 +79,12 @@ class StdrCtl(Node):
             return
         call = self._call
         if self._answer is None:
-            ready = (self._client.server_is_ready() if call.is_action
-                     else self._client.service_is_ready())
+            ready = self._client.service_is_ready() and (
+                not call.is_action or self._results.service_is_ready())
             if ready:
                 self._send(call)
                 return
-        elif self._goal is not None:
+        elif self._accepted_goal:
             self._follow_goal(call)
             return
         if self._clock.now().nanoseconds > self._deadline:
@@ -312,24 +96,41 @@ class StdrCtl(Node):
     def _send(self, call):
         self._deadline = self._later()
         if call.is_action:
-            self._answer = self._client.send_goal_async(call.kind.Goal(**call.fields))
-            self._answer.add_done_callback(lambda sent: self._accepted(call, sent.result()))
+            self._goal = UUID(uuid=list(uuid.uuid4().bytes))
+            request = call.kind.Impl.SendGoalService.Request(
+                goal_id=self._goal, goal=call.kind.Goal(**call.fields))
+            self._answer = self._client.call_async(request)
+            self._answer.add_done_callback(
+                lambda sent: self._accepted(call, sent.result().accepted))
         else:
             fields = call.fields
             request = fields['request'] if 'request' in fields else call.kind.Request(**fields)
             self._answer = self._client.call_async(request)
             self._answer.add_done_callback(lambda done: self._answered(call, done.result()))
 
-    def _accepted(self, call, goal):
-        if not goal.accepted:
+    def _on_goal_status(self, message):
+        """Note our goal's status; seeing it at all means the simulator accepted it."""
+        for status in message.status_list:
+            if self._goal is not None and status.goal_info.goal_id == self._goal:
+                first = self._goal_status is None
+                self._goal_status = status.status
+                if first and self._call is not None:
+                    self._accepted(self._call, True)
+
+    def _accepted(self, call, accepted):
+        """Ask for the goal's result once it is known to be accepted (by reply or status)."""
+        if self._call is not call or self.finished.done() or self._accepted_goal:
+            return
+        if not accepted:
             self._fail(f'{self._options.command} refused: the goal was rejected')
             return
-        self._goal = goal
+        self._accepted_goal = True
         self._ask_result(call)
 
     def _ask_result(self, call):
         self._deadline = self._later()
-        self._goal.get_result_async().add_done_callback(
+        self._results.call_async(call.kind.Impl.GetResultService.Request(
+            goal_id=self._goal)).add_done_callback(
             lambda done: self._answered(call, done.result().result))
 
     def _follow_goal(self, call):
@@ -340,9 +141,9 @@ class StdrCtl(Node):
         machine): when the goal's status says it ended and no result has come for a timeout,
         the result is asked again; the server keeps it.
         """
-        if not self._client.server_is_ready():
+        if not self._results.service_is_ready():
             self._fail(f'{self._name(call.service)} went away before the goal ended')
-        elif (self._goal.status in ENDED and self._clock.now().nanoseconds > self._deadline):
+        elif self._goal_status in ENDED and self._clock.now().nanoseconds > self._deadline:
             self._ask_result(call)
 
     def _answered(self, call, response):
@@ -354,7 +155,7 @@ class StdrCtl(Node):
         """
         if self._call is not call:
             return
-        self._call = self._goal = None
+        self._call = None
         outcome = getattr(response, 'result', Result(result=Result.RESULT_OK))
         code = outcome.result
         if code != Result.RESULT_OK:
@@ -378,8 +179,8 @@ class StdrCtl(Node):
 
     def shut_down(self):
         """Cancel a SimulateSteps goal still running (Ctrl-C), so the simulator stops it."""
-        if self._goal is not None:
-            self._goal.cancel_goal_async()
+        if self._call is not None and self._accepted_goal:
+            self._cancel.call_async(CancelGoal.Request(goal_info=GoalInfo(goal_id=self._goal)))
 
 
 def main(argv=None):

@@ -7,9 +7,11 @@ import pytest
 from rclpy.action import ActionClient
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
 from rclpy.time import Time
 from ros_helpers import overrides, ServiceCaller, spin_for, spin_until
 from rosgraph_msgs.msg import Clock
+from simple_robot_control.exit_codes import EXIT_OK
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import Result, SimulationState, SimulatorFeatures
 from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetSimulationState,
@@ -19,6 +21,8 @@ from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetS
 
 from stdr_lite.node.control_services import IMPLEMENTED, MAX_SERVICE_STEPS
 from stdr_lite.node.stdr_lite import StdrLite
+from stdr_lite.tools.ctl_commands import build_arguments
+from stdr_lite.tools.stdr_ctl import StdrCtl
 
 OK = Result.RESULT_OK
 S = SimulationState
@@ -249,3 +253,20 @@ def test_a_world_that_cannot_load_changes_nothing(world, tmp_path, uri, text, co
     assert answer.result == code and answer.error_message
     assert simulator.simulation.occupancy_map.width == 400
     assert call(GetSimulationState, 'get_simulation_state').state.state == S.STATE_PLAYING
+
+
+def test_stdr_ctl_follows_a_goal_whose_acceptance_reply_was_lost(world, executor, ros_context):
+    simulator, _, call = world
+    set_state(call, S.STATE_PAUSED)
+    before = simulator.simulation.step_count
+    lines = []
+    ctl = StdrCtl(build_arguments().parse_args(['simulate', '5']), write=lines.append,
+                  context=ros_context)
+    send = ctl._client.call_async
+    # The request reaches the simulator; its reply never comes back (discovery lagging).
+    ctl._client.call_async = lambda request: (send(request), Future())[1]
+    executor.add_node(ctl)
+    executor.spin_until_future_complete(ctl.finished, timeout_sec=10.0)
+    assert ctl.finished.result() == EXIT_OK
+    assert lines == ['simulated 5']
+    assert simulator.simulation.step_count == before + 5
