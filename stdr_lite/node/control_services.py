@@ -71,9 +71,13 @@ class SimulationControl:
                 (GetCurrentWorld, 'get_current_world', self._current_world),
                 (UnloadWorld, 'unload_world', self._unload_world)):
             node.create_service(kind, f'~/{name}', answering(callback), qos_profile=SERVICE_QOS)
-        ActionServer(node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
-                     goal_callback=self._accept_goal,
-                     cancel_callback=lambda _: CancelResponse.ACCEPT)
+        self._steps_action = ActionServer(node, SimulateSteps, '~/simulate_steps',
+                                          self._simulate_steps, goal_callback=self._accept_goal,
+                                          cancel_callback=lambda _: CancelResponse.ACCEPT)
+
+    def destroy(self):
+        """Destroy the action server: Node.destroy_node leaves it, and the node, alive."""
+        self._steps_action.destroy()
 
     @property
     def _state(self):

@@ -62,7 +62,7 @@ class StdrLite(Node):
         HealthWatch(self, self.simulation, self._topics,
                     0.0 if params['lockstep'] else params['real_time_factor'],
                     lambda: self.stepper.playing)
-        SimulationControl(self)
+        self._control = SimulationControl(self)
         EntityServices(self)
         if params['lockstep']:
             self.simulation.odometry_due()
@@ -172,6 +172,10 @@ class StdrLite(Node):
     def _odometry_subscribers(self):
         return sum(topics.odom_publisher.get_subscription_count()
                    for topics in self._topics.values())
+
+    def destroy_node(self):
+        self._control.destroy()
+        super().destroy_node()
 
     def shut_down(self):
         """Log how long the controller took to answer, when in lockstep."""

@@ -123,19 +123,23 @@ def test_step_takes_exactly_n_steps_only_when_paused(world, executor):
 
 def run_goal(executor, node, steps, cancel_after=None):
     client = ActionClient(node, SimulateSteps, '/stdr_lite/simulate_steps')
-    spin_until(executor, client.server_is_ready, what='the action server')
-    feedback = []
-    sent = client.send_goal_async(SimulateSteps.Goal(steps=steps),
-                                  feedback_callback=lambda message: feedback.append(
-                                      message.feedback.completed_steps))
-    spin_until(executor, sent.done, what='the goal accepted')
-    handle = sent.result()
-    if cancel_after is not None:
-        spin_until(executor, lambda: len(feedback) >= cancel_after, what='some steps')
-        handle.cancel_goal_async()
-    done = handle.get_result_async()
-    spin_until(executor, done.done, timeout=30.0, what='the result')
-    return done.result(), feedback
+    try:
+        spin_until(executor, client.server_is_ready, what='the action server')
+        feedback = []
+        sent = client.send_goal_async(SimulateSteps.Goal(steps=steps),
+                                      feedback_callback=lambda message: feedback.append(
+                                          message.feedback.completed_steps))
+        spin_until(executor, sent.done, what='the goal accepted')
+        handle = sent.result()
+        if cancel_after is not None:
+            spin_until(executor, lambda: len(feedback) >= cancel_after, what='some steps')
+            handle.cancel_goal_async()
+        done = handle.get_result_async()
+        spin_until(executor, done.done, timeout=30.0, what='the result')
+        return done.result(), feedback
+    finally:
+        # Node.destroy_node leaves an action client, and so its node, alive in the graph.
+        client.destroy()
 
 
 def test_simulate_steps_gives_feedback_per_step(world, executor):
@@ -169,10 +173,13 @@ def test_simulate_steps_waits_for_the_controller_in_lockstep(ros_context, execut
     call = ServiceCaller(executor, watcher)
     set_state(call, S.STATE_PAUSED)
     sent = ActionClient(watcher, SimulateSteps, '/stdr_lite/simulate_steps')
-    spin_until(executor, sent.server_is_ready, what='the action server')
-    sent.send_goal_async(SimulateSteps.Goal(steps=3))
-    spin_for(executor, 0.5)
-    assert simulator.simulation.step_count == 0
+    try:
+        spin_until(executor, sent.server_is_ready, what='the action server')
+        sent.send_goal_async(SimulateSteps.Goal(steps=3))
+        spin_for(executor, 0.5)
+        assert simulator.simulation.step_count == 0
+    finally:
+        sent.destroy()
 
 
 def test_reset_by_scope_and_unknown_scopes(world, executor):
