@@ -31,9 +31,12 @@ from waypoint_controller.status import aborted, finished, started, waypoint_reac
 
 # Wall-clock seconds. Odometry is held this long after start, which covers discovery most of
 # the time, to see who else commands the robot; the controller stays ready to yield for the
-# whole discovery time. Silence this long is worth a warning. At the end of a run, readers get
-# as long as discovery may take; when interrupted, a moment.
+# whole discovery time. When /map has a publisher, odometry is held on until the map is in (at
+# most MAP_WAIT), so the first plan already avoids the walls and a run does not depend on when
+# the map happened to arrive. Silence this long is worth a warning. At the end of a run,
+# readers get as long as discovery may take; when interrupted, a moment.
 FIRST_ANSWER_AFTER = 1.5
+MAP_WAIT = 10.0
 NEWCOMER_FOR = DISCOVERY_TIME
 WATCH_PERIOD = 0.5
 ODOMETRY_SILENCE = 3.0
@@ -112,6 +115,7 @@ class WaypointController(Node):
         self._command = STOP
         self._started_at = self._odometry_at = time.monotonic()
         self._held = None
+        self._has_map = self._map_given_up = False
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
                                                        status_qos(len(waypoints)))
         robot = params['robot_name']
@@ -132,9 +136,27 @@ class WaypointController(Node):
         self.destroy_timer(self._discovery)
         self._discovery = None
         self._check_alone()
-        if self._held is not None and not self.finished.done():
-            self._on_odometry(self._held)
-            self._held = None
+        self._release_held()
+
+    def _release_held(self):
+        """Answer the odometry held since start, once the controller may."""
+        if self._held is not None and self._may_start():
+            held, self._held = self._held, None
+            self._on_odometry(held)
+
+    def _may_start(self):
+        """Whether discovery has had its grace and the walls are known, or cannot be."""
+        if self._discovery is not None:
+            return False
+        if self._has_map or self._map_given_up or self.count_publishers('/map') == 0:
+            return True
+        waited = time.monotonic() - self._started_at
+        if waited < MAP_WAIT:
+            return False
+        self._map_given_up = True
+        self.get_logger().warn(f'/map has a publisher but no map came in {waited:.0f} s: '
+                               'driving without regard to walls until it does')
+        return True
 
     def _check_alone(self):
         """
@@ -160,6 +182,8 @@ class WaypointController(Node):
         self._follower.avoid(Clearance(grid, self._robot_radius).is_free)
         self.get_logger().info(f'planning around the walls of /map ({grid.width} x '
                                f'{grid.height} cells of {grid.resolution:g} m)')
+        self._has_map = True
+        self._release_held()
 
     def _on_tuning(self, changes):
         """Keep tuned values for the next control tick, where they take effect together."""
@@ -178,7 +202,7 @@ class WaypointController(Node):
         if self.finished.done():
             return
         self._odometry_at = time.monotonic()
-        if self._discovery is not None:
+        if self._stamp is None and not self._may_start():
             self._held = message
             return
         stamp = Time.from_msg(message.header.stamp).nanoseconds
@@ -235,6 +259,7 @@ class WaypointController(Node):
         self._commands.publish(*self._command)
 
     def _watch_odometry(self):
+        self._release_held()
         if self._discovery is None and time.monotonic() - self._started_at < NEWCOMER_FOR:
             self._check_alone()
         silence = time.monotonic() - self._odometry_at

@@ -1,16 +1,17 @@
 """The controller never drives blind: a restarted simulator, a second controller, bad values."""
 
 from geometry_msgs.msg import Twist
-from nav_msgs.msg import Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry
 import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from ros_helpers import overrides, spin_until, wait_for_subscribers
+from ros_helpers import overrides, spin_for, spin_until, wait_for_subscribers
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import set_pose
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
-from waypoint_controller.waypoint_controller import NEWCOMER_FOR, WaypointController
+from waypoint_controller.waypoint_controller import (FIRST_ANSWER_AFTER, NEWCOMER_FOR,
+                                                     WaypointController)
 
 EVERYTHING = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE,
                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -59,6 +60,31 @@ def test_odometry_time_going_back_stops_the_robot_and_ends_the_run(ros_context, 
     simulator.odometry.publish(Odometry())
     executor.spin_once(timeout_sec=0.2)
     assert len(simulator.commands) == count
+
+
+def test_the_first_answer_waits_for_a_published_map(ros_context, executor, tmp_path):
+    """A map that comes late would change the first plans: the run must not depend on it."""
+    course = tmp_path / 'course.txt'
+    course.write_text('3 2 0\n')
+    simulator = FakeSimulator(ros_context)
+    map_publisher = simulator.create_publisher(OccupancyGrid, '/map', EVERYTHING)
+    controller = WaypointController(str(course), context=ros_context)
+    executor.add_node(simulator)
+    executor.add_node(controller)
+    wait_for_subscribers(executor, simulator.odometry)
+    wait_for_subscribers(executor, map_publisher)
+    message = Odometry()
+    message.header.stamp.sec = 1
+    set_pose(message.pose.pose, 1.0, 2.0, 0.0)
+    simulator.odometry.publish(message)
+    spin_for(executor, FIRST_ANSWER_AFTER + 1.0)
+    assert simulator.commands == []
+    grid = OccupancyGrid()
+    grid.info.resolution, grid.info.width, grid.info.height = 0.1, 60, 40
+    grid.data = [0] * (60 * 40)
+    map_publisher.publish(grid)
+    spin_until(executor, lambda: simulator.commands, what='the first answer')
+    assert simulator.commands[0].linear.x > 0.0
 
 
 def test_a_second_controller_on_one_robot_refuses_to_start(ros_context, executor, tmp_path):

@@ -9,12 +9,25 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import events_executor, overrides, spin_until
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import yaw_from_quaternion
+from simple_robot_control.share import BUNDLED_COURSE, shared_file
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.control_law import ControllerConfig, in_goal_set
 from waypoint_controller.waypoint_controller import WaypointController
 from waypoint_controller.waypoints import load_waypoints
 
+# The lab tour's robot_status in lockstep, as the README shows it: a change made for speed alone
+# must leave every line as it is.
+LAB_TOUR_STATUS = [
+    'STARTED 1.000 2.000 0.00',
+    'WAYPOINT 1 3.924 2.063 3.31',
+    'WAYPOINT 2 5.936 4.924 85.26',
+    'WAYPOINT 3 4.011 7.913 175.17',
+    'WAYPOINT 4 2.085 6.011 -94.93',
+    'WAYPOINT 5 2.000 3.097 -93.21',
+    'WAYPOINT 6 1.072 2.066 -4.90',
+    'FINISHED',
+]
 TRANSIENT = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE,
                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -87,6 +100,11 @@ def test_lockstep_runs_are_identical(ros_context, tmp_path):
             runs.append(recorder.status)
     assert runs[0][-1] == 'FINISHED'
     assert runs[0] == runs[1]
+
+
+def test_the_lab_tour_in_lockstep_reports_the_recorded_poses(ros_context, executor):
+    _, recorder = run_course(ros_context, executor, shared_file(*BUNDLED_COURSE))
+    assert recorder.status == LAB_TOUR_STATUS
 
 
 def test_late_subscriber_receives_the_whole_run(ros_context, executor, tmp_path):
