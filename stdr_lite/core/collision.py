@@ -2,21 +2,22 @@
 Exact footprint-versus-grid checks for circular robots.
 
 A circle touches an occupied cell when its centre is closer than its radius to the cell's
-square. A precomputed mask marks the cells where no circle of the largest radius can touch
-anything, so robots in open space cost one lookup and only robots near a wall pay for the
-exact check against the cells around them. Everything outside the map counts as occupied.
-A second mask, wider by MOTION_MARGIN, lets a short step in open space skip the check along
-its path altogether.
+square. A distance transform, done once, gives every cell a lower bound of the distance from
+any of its points to an occupied square, so a robot in open space (or a step whose whole path
+stays in open space) costs one lookup, and only robots near a wall pay for the exact check
+against the cells around them. Everything outside the map counts as occupied.
 """
 
 import math
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.ndimage import distance_transform_edt
 from simple_robot_control.occupancy_map import OccupancyMap
 
-MOTION_MARGIN = 0.1
 CELLS_PER_BATCH = 1 << 22
+# Rounding allowance on the wall-gap bound, metres: far below anything the bound decides.
+GAP_SLACK = 1e-9
 
 
 class FootprintChecker:
@@ -28,30 +29,33 @@ class FootprintChecker:
         self.resolution = occupancy_map.resolution
         self.max_radius = float(max_radius)
         origin_x, origin_y, yaw = occupancy_map.origin
-        self._origin = (origin_x, origin_y)
+        self._origin = (float(origin_x), float(origin_y))
         self._cos_yaw, self._sin_yaw = math.cos(yaw), math.sin(yaw)
         self._height, self._width = occupancy_map.occupied.shape
-        self._reach = math.ceil(self.max_radius / self.resolution)
-        self._pad = math.ceil((self.max_radius + MOTION_MARGIN) / self.resolution)
+        self._pad = math.ceil(self.max_radius / self.resolution)
         self._padded = np.pad(occupancy_map.occupied, self._pad, constant_values=True)
-        steps = np.arange(-self._reach, self._reach + 1)
-        rows, cols = np.meshgrid(steps, steps, indexing='ij')
-        self._window_rows, self._window_cols = rows.ravel(), cols.ravel()
-        self._near_obstacle = self._cells_within(self.max_radius)
-        self._near_for_motion = self._cells_within(self.max_radius + MOTION_MARGIN)
+        self.wall_gap = self._wall_gaps(occupancy_map.occupied)
+        # The cells around a point's cell, nearest first, with the least gap between the
+        # point's cell and each: a circle of radius r can touch only those whose gap is < r.
+        steps = np.arange(-self._pad, self._pad + 1)
+        rows, cols = (grid.ravel() for grid in np.meshgrid(steps, steps, indexing='ij'))
+        gaps = self.resolution * np.hypot(np.maximum(np.abs(rows) - 1, 0),
+                                          np.maximum(np.abs(cols) - 1, 0))
+        order = np.argsort(gaps, kind='stable')
+        self._window_rows, self._window_cols = rows[order], cols[order]
+        self._window_gaps = gaps[order]
 
-    def _cells_within(self, distance):
-        """Mark cells from which some point could lie within distance of an occupied cell."""
-        reach, pad = math.ceil(distance / self.resolution), self._pad
-        near = np.zeros((self._height, self._width), dtype=bool)
-        for row_step in range(-reach, reach + 1):
-            for col_step in range(-reach, reach + 1):
-                gap = self.resolution * math.hypot(max(abs(row_step) - 1, 0),
-                                                   max(abs(col_step) - 1, 0))
-                if gap < distance:
-                    near |= self._padded[pad + row_step:pad + row_step + self._height,
-                                         pad + col_step:pad + col_step + self._width]
-        return near
+    def _wall_gaps(self, occupied):
+        """
+        Bound from below, per cell, the distance from its points to an occupied square.
+
+        From a point of a cell to the nearest occupied square is at least the distance between
+        the two cells' centres less a cell's diagonal; the map's outside is a ring of occupied
+        cells here, so the bound holds for the map edge too.
+        """
+        free = np.pad(~occupied, 1, constant_values=False)
+        centres = distance_transform_edt(free)[1:-1, 1:-1]
+        return self.resolution * (centres - math.sqrt(2.0)) - GAP_SLACK
 
     def _cells(self, x, y):
         map_x, map_y = self.to_map_frame(x, y)
@@ -60,17 +64,28 @@ class FootprintChecker:
         inside = (rows >= 0) & (rows < self._height) & (cols >= 0) & (cols < self._width)
         return map_x, map_y, rows, cols, inside
 
-    def clear_for_motion(self, x: ArrayLike, y: ArrayLike, step_length: ArrayLike) -> np.ndarray:
+    def clear_for_motion(self, x: ArrayLike, y: ArrayLike, step_length: ArrayLike,
+                         radius: ArrayLike) -> np.ndarray:
         """
-        Whether a circle of max_radius starting at (x, y) surely touches nothing on a path.
+        Whether a circle of radius starting at (x, y) surely touches nothing on a path.
 
-        True only where the path is at most MOTION_MARGIN long and starts in open space; False
-        means the path must be checked.
+        The path may go anywhere within step_length of its start. False means it must be
+        checked, not that it touches.
         """
         _, _, rows, cols, inside = self._cells(x, y)
-        clear = inside & (np.asarray(step_length) <= MOTION_MARGIN)
-        clear[clear] = ~self._near_for_motion[rows[clear], cols[clear]]
+        clear = inside
+        reach = np.broadcast_to(np.asarray(step_length) + radius, clear.shape)
+        clear[clear] = self.wall_gap[rows[clear], cols[clear]] >= reach[clear]
         return clear
+
+    def clear_for_motion_one(self, x: float, y: float, step_length: float,
+                             radius: float) -> bool:
+        """Do as clear_for_motion for one circle, in plain Python floats."""
+        dx, dy = x - self._origin[0], y - self._origin[1]
+        col = math.floor((self._cos_yaw * dx + self._sin_yaw * dy) / self.resolution)
+        row = math.floor((-self._sin_yaw * dx + self._cos_yaw * dy) / self.resolution)
+        return (0 <= row < self._height and 0 <= col < self._width
+                and self.wall_gap.item(row, col) >= step_length + radius)
 
     def to_map_frame(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Express world coordinates in the frame of the map's lower-left corner."""
@@ -91,19 +106,24 @@ class FootprintChecker:
         radius = radius.ravel()
         result = ~inside
         candidates = np.flatnonzero(inside)
-        candidates = candidates[self._near_obstacle[rows[candidates], cols[candidates]]]
-        # The exact test weighs every cell of a window around each point: points go in
-        # batches, so memory stays bounded however many points and however large the window.
-        batch = max(1, CELLS_PER_BATCH // self._window_rows.size)
+        candidates = candidates[self.wall_gap[rows[candidates], cols[candidates]]
+                                < radius[candidates]]
+        if candidates.size == 0:
+            return result.reshape(shape)
+        # The exact test weighs each cell of a window around each point, only as far out as
+        # the largest radius reaches: points go in batches, so memory stays bounded however
+        # many points and however large the window.
+        window = int(np.searchsorted(self._window_gaps, float(np.max(radius[candidates]))))
+        batch = max(1, CELLS_PER_BATCH // window)
         for start in range(0, candidates.size, batch):
             chosen = candidates[start:start + batch]
             result[chosen] = self._touches_exactly(map_x[chosen], map_y[chosen], rows[chosen],
-                                                   cols[chosen], radius[chosen])
+                                                   cols[chosen], radius[chosen], window)
         return result.reshape(shape)
 
-    def _touches_exactly(self, map_x, map_y, rows, cols, radius):
-        cell_rows = rows[:, None] + self._window_rows[None, :]
-        cell_cols = cols[:, None] + self._window_cols[None, :]
+    def _touches_exactly(self, map_x, map_y, rows, cols, radius, window):
+        cell_rows = rows[:, None] + self._window_rows[None, :window]
+        cell_cols = cols[:, None] + self._window_cols[None, :window]
         occupied = self._padded[cell_rows + self._pad, cell_cols + self._pad]
         half = 0.5 * self.resolution
         centre_x = (cell_cols + 0.5) * self.resolution

@@ -6,7 +6,7 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map, OccupancyMap
-from stdr_lite.core.collision import FootprintChecker, MOTION_MARGIN
+from stdr_lite.core.collision import FootprintChecker
 from stdr_lite.core.world import PlacementError, World
 
 RESOLUTION = 0.05
@@ -57,15 +57,18 @@ def test_clear_for_motion_holds_everywhere_a_short_step_can_reach():
     occupied = rng.random((30, 40)) < 0.02
     checker = FootprintChecker(grid_map(occupied), max_radius=0.2)
     x, y = rng.uniform(-0.2, 2.2, 3000), rng.uniform(-0.2, 1.7, 3000)
-    clear = checker.clear_for_motion(x, y, MOTION_MARGIN)
+    step, radius = 0.1, 0.15
+    clear = checker.clear_for_motion(x, y, step, radius)
     assert 0 < clear.sum() < clear.size
+    assert [checker.clear_for_motion_one(*point, step, radius)
+            for point in zip(x, y)] == clear.tolist()
     angles = np.linspace(0.0, 2.0 * math.pi, 24, endpoint=False)
     for start_x, start_y in zip(x[clear], y[clear]):
-        for distance in (0.0, 0.5 * MOTION_MARGIN, MOTION_MARGIN):
+        for distance in (0.0, 0.5 * step, step):
             ends = zip(start_x + distance * np.cos(angles), start_y + distance * np.sin(angles))
-            assert not any(brute_force_touches(occupied, (0.0, 0.0, 0.0), end_x, end_y, 0.2)
+            assert not any(brute_force_touches(occupied, (0.0, 0.0, 0.0), end_x, end_y, radius)
                            for end_x, end_y in ends)
-    assert not checker.clear_for_motion(x, y, 1.5 * MOTION_MARGIN).any()
+    assert clear.sum() > checker.clear_for_motion(x, y, 2.0 * step, radius).sum()
 
 
 def test_circle_exactly_clear_of_a_wall_does_not_touch_it():
@@ -143,3 +146,31 @@ def test_impossible_placements_are_refused(pose, problem):
     with pytest.raises(PlacementError, match=problem):
         world.add_robot(pose, 0.2)
     assert world.robot_count == 0
+
+
+@pytest.mark.parametrize('integrator', ['euler', 'arc'])
+def test_a_few_bodies_step_exactly_as_many_do(integrator, monkeypatch):
+    """The body-by-body step and the vectorised one agree to the last bit, walls and all."""
+    rng = np.random.default_rng(5)
+    occupied = walled_room(60, 50) == 0
+    occupied[20:30, 25:28] = True
+    worlds = [World(grid_map(occupied), max_radius=0.3, integrator=integrator)
+              for _ in range(2)]
+    for world in worlds:
+        for pose in [(0.5, 0.5, 0.0), (0.9, 0.5, 3.0), (2.4, 1.2, 1.0), (1.0, 2.0, -1.0)]:
+            world.add_robot(pose, 0.2)
+    headings = [np.nan, np.nan, 0.7, np.nan]
+    blocked = 0
+    for _ in range(300):
+        linear, angular = rng.uniform(-1.5, 1.5, 4), rng.uniform(-2.0, 2.0, 4)
+        linear[rng.random(4) < 0.1] = 0.0
+        few = worlds[0].step(linear, angular, 0.05, headings)
+        monkeypatch.setattr('stdr_lite.core.world.FEW_BODIES', 0)
+        many = worlds[1].step(linear, angular, 0.05, headings)
+        monkeypatch.undo()
+        assert np.array_equal(worlds[0].poses, worlds[1].poses)
+        assert all(np.array_equal(a, b) for a, b in zip(few, many))
+        blocked += int(np.sum((few[0] == 0.0) & (linear != 0.0)))
+    assert blocked > 10
+    assert not np.array_equal(worlds[0].poses[:, :2], [[0.5, 0.5], [0.9, 0.5], [2.4, 1.2],
+                                                       [1.0, 2.0]])

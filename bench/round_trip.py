@@ -1,0 +1,138 @@
+"""
+The rclpy ceiling of the lockstep loop: Odometry out, Twist back, and nothing else.
+
+A pacer publishes nav_msgs/Odometry, its stamp one step later each time, and waits for the
+geometry_msgs/Twist that answers it; an echo answers every odometry with a Twist. On one
+EventsExecutor in one process, or with the echo in a process of its own (`python -m
+bench.round_trip` runs one), it makes the most round trips per second that rclpy allows a
+simulator and a controller in lockstep on this machine: the yardstick of bench.realtime.
+"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+import rclpy
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+
+ODOMETRY_TOPIC = '/robot0/odom'
+COMMAND_TOPIC = '/robot0/cmd_vel'
+QUEUE = 10
+# An odometry unanswered this long (wall seconds) was sent before the echo was matched: again.
+RESEND_AFTER = 0.2
+NANOSECONDS = 1_000_000_000
+
+
+class Pacer(Node):
+    """Publishes the next odometry as soon as the last one is answered, and counts answers."""
+
+    def __init__(self, step_ns, **kwargs):
+        super().__init__('round_trip_pacer', **kwargs)
+        self.round_trips = 0
+        self._step_ns = step_ns
+        self._time_ns = 0
+        self._odometry = Odometry()
+        self._odometry.header.frame_id = 'robot0/odom'
+        self._odometry.child_frame_id = 'robot0/base_link'
+        self._publisher = self.create_publisher(Odometry, ODOMETRY_TOPIC, QUEUE)
+        self.create_subscription(Twist, COMMAND_TOPIC, self._on_command, QUEUE)
+        self._sent_at = time.monotonic()
+
+    def send(self):
+        stamp = self._odometry.header.stamp
+        stamp.sec, stamp.nanosec = divmod(self._time_ns, NANOSECONDS)
+        self._publisher.publish(self._odometry)
+        self._sent_at = time.monotonic()
+
+    def resend_if_unanswered(self):
+        if time.monotonic() - self._sent_at > RESEND_AFTER:
+            self.send()
+
+    def _on_command(self, _):
+        self.round_trips += 1
+        self._time_ns += self._step_ns
+        self.send()
+
+
+class Echo(Node):
+    """Answers every odometry with a Twist, as a controller does, doing nothing else."""
+
+    def __init__(self, **kwargs):
+        super().__init__('round_trip_echo', **kwargs)
+        self._command = Twist()
+        self._publisher = self.create_publisher(Twist, COMMAND_TOPIC, QUEUE)
+        self.create_subscription(Odometry, ODOMETRY_TOPIC, self._on_odometry, QUEUE)
+
+    def _on_odometry(self, _):
+        self._publisher.publish(self._command)
+
+
+def round_trip_rtf(context, executor, separate_process, step_s=0.02, seconds=3.0,
+                   echo_command=(sys.executable, '-m', 'bench.round_trip')):
+    """
+    Return the real-time factor of the bare loop at this step: sim seconds per wall second.
+
+    The pacer and, unless separate_process, the echo are added to executor (in context); the
+    caller destroys them. Counting starts with the first answer, so discovery is left out.
+    """
+    echo = None
+    pacer = Pacer(round(step_s * NANOSECONDS), context=context)
+    executor.add_node(pacer)
+    if separate_process:
+        echo = subprocess.Popen(list(echo_command))
+    else:
+        executor.add_node(Echo(context=context))
+    try:
+        deadline = time.monotonic() + 30.0
+        pacer.send()
+        while pacer.round_trips == 0:
+            if time.monotonic() > deadline:
+                raise RuntimeError('the echo never answered')
+            executor.spin_once(timeout_sec=0.05)
+            pacer.resend_if_unanswered()
+        started_trips, started = pacer.round_trips, time.perf_counter()
+        end = started + seconds
+        while time.perf_counter() < end:
+            executor.spin_once(timeout_sec=0.1)
+        trips = pacer.round_trips - started_trips
+        return trips * step_s / (time.perf_counter() - started)
+    finally:
+        if echo is not None:
+            echo.send_signal(signal.SIGINT)
+            try:
+                echo.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                echo.kill()
+                echo.wait()
+
+
+def main():
+    """Run an echo until interrupted (SIGINT or SIGTERM)."""
+    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
+        print('round_trip: run through bench.realtime, which keeps DDS on loopback',
+              file=sys.stderr)
+        return 2
+    stopped = []
+    # The EventsExecutor does not wake for a signal, so spin in short slices and look.
+    for signal_number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signal_number, lambda *_: stopped.append(True))
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    executor = EventsExecutor()
+    executor.add_node(Echo())
+    try:
+        while not stopped:
+            executor.spin_once(timeout_sec=0.1)
+    finally:
+        executor.shutdown()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
