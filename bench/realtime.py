@@ -3,11 +3,15 @@ Measure how fast stdr_lite and waypoint_controller run in lockstep (a benchmark,
 
 The bundled lab tour is driven at rate_hz 50 with the simulator in lockstep and unpaced:
 once with both nodes in this process on one EventsExecutor, once with the controller as a
-separate process. The real-time factor is simulated seconds per wall second from the first
-step to FINISHED; the control-step latency is the wall time from publishing odometry to
-receiving the cmd_vel that answers it. Each configuration runs several times and the run with
-the median RTF is shown. Last, the bare World steps N robots with wall and robot collision,
-and the sensors of ten robots are read.
+separate process. Each run is paired with a run of the rclpy ceiling for the same loop
+(bench.round_trip: Odometry out, Twist back, nothing else) in the same arrangement, and the
+lab tour's real-time factor is printed as a ratio of that ceiling: ratios, measured side by
+side, are what hold on a noisy machine. The real-time factor is simulated seconds per wall
+second from the first step to FINISHED; the control-step latency is the wall time from
+publishing odometry to receiving the cmd_vel that answers it. Next the bare World steps N
+robots with wall and robot contact; then the whole node steps 1000 lab robots with odometry at
+10 Hz and a subscriber to every robot's odometry, timed by /clock against the wall clock; last
+the sensors of ten robots are read. Every figure is the median of --repeat runs.
 """
 
 import argparse
@@ -21,6 +25,7 @@ import sys
 from tempfile import TemporaryDirectory
 import time
 
+from bench.round_trip import round_trip_rtf
 from nav_msgs.msg import Odometry
 import numpy as np
 import rclpy
@@ -29,6 +34,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
 from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import BUNDLED_COURSE, BUNDLED_MAP, BUNDLED_ROBOT, shared_file
 from std_msgs.msg import String
@@ -138,35 +144,56 @@ def robot_steps_per_second(robot_count, steps, seed=1):
     return robot_count * steps / (time.perf_counter() - started)
 
 
-def node_real_time_factor(robot_count, listened, seconds=5.0):
+class ClockWatch(Node):
+    """Notes the wall time each /clock message arrives, with the sim time it carries."""
+
+    def __init__(self, context):
+        super().__init__('clock_watch', context=context)
+        self.ticks = []
+        self.create_subscription(Clock, '/clock', self._on_clock, 10)
+
+    def _on_clock(self, message):
+        self.ticks.append((time.perf_counter(),
+                           message.clock.sec + message.clock.nanosec * 1e-9))
+
+
+def node_real_time_factor(robot_count, seconds, odom_rate_hz=10.0):
     """
     Sim seconds per wall second of the whole stdr_lite node, free-running unpaced.
 
-    The robots carry no sensors and stand still; every step publishes every robot's odometry
-    (and /clock), listened to by a node in this process when listened is true.
+    robot_count lab robots (laser and sonars, unread) stand on a grid; every robot's odometry
+    goes out at odom_rate_hz to a subscriber in a process of its own (bench.odometry_listener,
+    as RViz or the robots' controllers would be), and /clock, heard over seconds of wall time
+    once the subscriber has every topic, gives the pace. Above 1, the node holds real time.
     """
-    with TemporaryDirectory() as folder, ros_session() as (context, executor):
-        robots = write_robot_grid(Path(folder), robot_count)
-        simulator = StdrLite(context=context, parameter_overrides=[
-            Parameter('robots_file', value=str(robots)), Parameter('real_time_factor', value=0.0)])
-        executor.add_node(simulator)
-        if listened:
-            listener = Node('listener', context=context)
-            for name in simulator.simulation.robot_names:
-                listener.create_subscription(Odometry, f'/{name}/odom', lambda _: None, 10)
-            executor.add_node(listener)
-        spin_until(executor, lambda: simulator.sim_time > 0.0)
-        started_sim, started_wall = simulator.sim_time, time.perf_counter()
-        deadline = started_wall + seconds
-        while time.perf_counter() < deadline:
-            executor.spin_once(timeout_sec=0.1)
-        return (simulator.sim_time - started_sim) / (time.perf_counter() - started_wall)
+    listener = subprocess.Popen([sys.executable, '-m', 'bench.odometry_listener',
+                                 str(robot_count)])
+    try:
+        with TemporaryDirectory() as folder, ros_session() as (context, executor):
+            robots = write_robot_grid(Path(folder), robot_count)
+            simulator = StdrLite(context=context, parameter_overrides=[
+                Parameter('robots_file', value=str(robots)),
+                Parameter('real_time_factor', value=0.0),
+                Parameter('odom_rate_hz', value=odom_rate_hz)])
+            watch = ClockWatch(context)
+            for node in (simulator, watch):
+                executor.add_node(node)
+            spin_until(executor, lambda: simulator.odometry_subscribers() >= robot_count)
+            first = len(watch.ticks)
+            deadline = time.perf_counter() + seconds
+            while time.perf_counter() < deadline:
+                executor.spin_once(timeout_sec=0.1)
+            (wall_start, sim_start), (wall_end, sim_end) = watch.ticks[first], watch.ticks[-1]
+            return (sim_end - sim_start) / (wall_end - wall_start)
+    finally:
+        listener.send_signal(signal.SIGINT)
+        listener.wait(timeout=60)
 
 
 def write_robot_grid(folder, robot_count):
-    """Write a list of robot_count sensorless robots on a grid in the lab room."""
-    (folder / 'plain.yaml').write_text('footprint: {radius: 0.2}\n')
-    rows = [f'  - {{description: plain.yaml, pose: [{0.6 + 0.47 * (k % 40):.2f}, '
+    """Write a list of robot_count lab robots on a grid in the lab room."""
+    description = shared_file(*BUNDLED_ROBOT)
+    rows = [f'  - {{description: {description}, pose: [{0.6 + 0.47 * (k % 40):.2f}, '
             f'{0.6 + 0.55 * (k // 40):.2f}, 0.0]}}' for k in range(robot_count)]
     path = folder / 'robots.yaml'
     path.write_text('robots:\n' + '\n'.join(rows) + '\n')
@@ -199,34 +226,56 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
     return loads
 
 
+def lockstep_against_ceiling(course, separate_process, repeat):
+    """Run the lab tour and the ceiling in turn; return the runs and each run's ratio."""
+    tours, ceilings = [], []
+    for _ in range(repeat):
+        with ros_session() as (context, executor):
+            ceilings.append(round_trip_rtf(context, executor, separate_process))
+        tours.append(drive_course(course, separate_process))
+    ratios = [sim / wall / ceiling for (sim, wall, _), ceiling in zip(tours, ceilings)]
+    return tours, ceilings, ratios
+
+
+def print_lockstep(course, repeat):
+    print(f'course {course}, stdr_lite at rate_hz 50 in lockstep, real_time_factor 0; '
+          f'median of {repeat} runs, each beside a run of the rclpy ceiling (bench.round_trip)')
+    print(f'{"configuration":14} {"RTF":>7} {"ceiling":>8} {"ratio":>6} {"ratio range":>12} '
+          f'{"latency med":>12} {"latency p99":>12}')
+    for label, separate in (('one process', False), ('two processes', True)):
+        tours, ceilings, ratios = lockstep_against_ceiling(course, separate, repeat)
+        middle = sorted(range(repeat), key=lambda run: tours[run][0] / tours[run][1])[repeat // 2]
+        sim, wall, latencies = tours[middle]
+        median, p99 = np.percentile(latencies, (50, 99)) * 1e3
+        print(f'{label:14} {sim / wall:6.1f}x {np.median(ceilings):7.1f}x '
+              f'{np.median(ratios):6.2f} {min(ratios):5.2f}-{max(ratios):5.2f} '
+              f'{median:9.2f} ms {p99:9.2f} ms', flush=True)
+
+
 def main(argv=None):
     keep_dds_on_loopback()
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     parser.add_argument('--course', default=shared_file(*BUNDLED_COURSE))
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 100, 1000])
+    parser.add_argument('--crowd', type=int, default=1000,
+                        help='lab robots in the whole-node run')
+    parser.add_argument('--node-seconds', type=float, default=20.0,
+                        help='wall seconds of /clock per whole-node run')
     parser.add_argument('--repeat', type=int, default=5,
-                        help='runs per configuration; the run with the median RTF is shown')
+                        help='runs per figure; the median is shown')
     args = parser.parse_args(argv)
-    print(f'course {args.course}, stdr_lite at rate_hz 50 in lockstep, real_time_factor 0')
-    print(f'{"configuration":16} {"sim s":>7} {"wall s":>7} {"RTF":>7} {"RTF range":>13} '
-          f'{"latency med":>12} {"latency p99":>12}')
-    for label, separate in (('one process', False), ('two processes', True)):
-        runs = sorted((drive_course(args.course, separate) for _ in range(args.repeat)),
-                      key=lambda run: run[0] / run[1])
-        sim, wall, latencies = runs[len(runs) // 2]
-        slowest, fastest = (run[0] / run[1] for run in (runs[0], runs[-1]))
-        median, p99 = np.percentile(latencies, (50, 99)) * 1e3
-        print(f'{label:16} {sim:7.2f} {wall:7.2f} {sim / wall:6.1f}x '
-              f'{slowest:5.1f}-{fastest:5.1f}x {median:9.2f} ms {p99:9.2f} ms', flush=True)
+    print_lockstep(args.course, args.repeat)
+    print(f'the bare World, walls and robot contact included; median of {args.repeat} runs')
     print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9}')
     for count in args.robots:
-        rate = robot_steps_per_second(count, steps=max(200, 20000 // count))
+        rate = float(np.median([robot_steps_per_second(count, steps=max(200, 20000 // count))
+                                for _ in range(args.repeat)]))
         print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f}', flush=True)
-    print('the whole stdr_lite node, free-running unpaced, odometry of every robot published')
-    print(f'{"robots":>7} {"RTF":>9} {"RTF, odometry listened to":>26}')
-    for count in args.robots:
-        alone, listened = (node_real_time_factor(count, listened) for listened in (False, True))
-        print(f'{count:7d} {alone:8.2f}x {listened:25.2f}x', flush=True)
+    factors = [node_real_time_factor(args.crowd, args.node_seconds) for _ in range(args.repeat)]
+    print(f'the whole stdr_lite node, {args.crowd} lab robots, free-running unpaced, odometry '
+          f'at 10 Hz to a subscriber: {np.median(factors):.2f}x real time by /clock over '
+          f'{args.node_seconds:g} s (median of {args.repeat}, {min(factors):.2f} to '
+          f'{max(factors):.2f}x)', flush=True)
     loads = sensor_load()
     print(f'sensors of 10 lab robots (667-ray laser, 5 sonars, 10 Hz each): '
           f'{np.median(loads):.1%} of one core (median of {len(loads)} batches, '

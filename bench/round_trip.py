@@ -112,10 +112,10 @@ def round_trip_rtf(context, executor, separate_process, step_s=0.02, seconds=3.0
                 echo.wait()
 
 
-def main():
-    """Run an echo until interrupted (SIGINT or SIGTERM)."""
+def serve(make_node):
+    """Spin the node make_node() gives until SIGINT or SIGTERM; return an exit code."""
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
-        print('round_trip: run through bench.realtime, which keeps DDS on loopback',
+        print(f'{sys.argv[0]}: run through bench.realtime, which keeps DDS on loopback',
               file=sys.stderr)
         return 2
     stopped = []
@@ -124,7 +124,7 @@ def main():
         signal.signal(signal_number, lambda *_: stopped.append(True))
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     executor = EventsExecutor()
-    executor.add_node(Echo())
+    executor.add_node(make_node())
     try:
         while not stopped:
             executor.spin_once(timeout_sec=0.1)
@@ -132,6 +132,11 @@ def main():
         executor.shutdown()
         rclpy.try_shutdown()
     return 0
+
+
+def main():
+    """Run an echo until interrupted."""
+    return serve(Echo)
 
 
 if __name__ == '__main__':

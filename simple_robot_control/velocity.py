@@ -13,17 +13,17 @@ class VelocityPublisher:
     def __init__(self, node, topic, stamped):
         self._node = node
         self._stamped = stamped
-        self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, 10)
+        # One message, refilled at every publish: building one costs as much as sending it.
+        self._message = TwistStamped() if stamped else Twist()
+        self._twist = self._message.twist if stamped else self._message
+        self.publisher = node.create_publisher(type(self._message), topic, 10)
 
     @property
     def topic_name(self):
         return self.publisher.topic_name
 
     def publish(self, linear, angular):
-        twist = Twist()
-        twist.linear.x, twist.angular.z = float(linear), float(angular)
+        self._twist.linear.x, self._twist.angular.z = float(linear), float(angular)
         if self._stamped:
-            command = TwistStamped(twist=twist)
-            command.header.stamp = self._node.get_clock().now().to_msg()
-            twist = command
-        self.publisher.publish(twist)
+            self._message.header.stamp = self._node.get_clock().now().to_msg()
+        self.publisher.publish(self._message)

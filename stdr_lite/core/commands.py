@@ -1,8 +1,17 @@
 """Velocity commands as the simulator holds them between steps."""
 
+import enum
 import math
 
 import numpy as np
+
+
+class CommandOutcome(enum.Enum):
+    """What became of a velocity command."""
+
+    APPLIED = 'applied'
+    CLAMPED = 'clamped to the speed limits'
+    IGNORED = 'ignored: not finite'
 
 
 class CommandBuffer:

@@ -58,7 +58,7 @@ class PeriodicSchedule:
 
 @dataclass
 class ScheduledSensor:
-    """A laser or sonar and when it next reads."""
+    """A laser or sonar and its reading times: every period, in the phase of schedule."""
 
     spec: object
     schedule: PeriodicSchedule
@@ -98,6 +98,25 @@ def sensors_of(description: RobotDescription, now_ns: int) -> list[ScheduledSens
         period_ns = round(NANOSECONDS / spec.frequency)
         sensors.append(ScheduledSensor(spec, PeriodicSchedule(period_ns, now_ns + period_ns)))
     return sensors
+
+
+def sensor_groups(entities, last_step_ns: int) -> list[tuple[PeriodicSchedule, list]]:
+    """
+    Group the entities' sensors by reading times: [(schedule, [(name, [spec, ...]), ...])].
+
+    Sensors of one period and phase read together; each group's schedule is first due at its
+    first reading time after last_step_ns.
+    """
+    groups = {}
+    for entity in entities:
+        for sensor in entity.sensors:
+            period_ns = sensor.schedule.period_ns
+            key = (period_ns, sensor.schedule.next_due_ns % period_ns)
+            members = groups.setdefault(key, {})
+            members.setdefault(entity.name, []).append(sensor.spec)
+    after = last_step_ns + 1
+    return [(PeriodicSchedule(period_ns, after + (phase - after) % period_ns),
+             list(members.items())) for (period_ns, phase), members in groups.items()]
 
 
 class Answers:

@@ -39,12 +39,21 @@ class OdometryNoise:
 
 @dataclass(frozen=True)
 class OdometryReading:
-    """One robot's odometry: pose in its odom frame, measured velocity, and their spread."""
+    """
+    One robot's odometry: pose in its odom frame, measured velocity, and their spread.
+
+    exact marks a reading known to have no spread at all, so its zeros need no looking at.
+    """
 
     pose: tuple
     velocity: tuple
     pose_covariance: np.ndarray
     velocity_variance: tuple
+    exact: bool = False
+
+
+NO_SPREAD = np.zeros((3, 3))
+NO_SPREAD.flags.writeable = False
 
 
 class Odometry:

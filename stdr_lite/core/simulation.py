@@ -10,7 +10,6 @@ messages; tests and benchmarks drive it directly.
 """
 
 from contextlib import contextmanager
-import enum
 import math
 from typing import Iterable
 
@@ -18,26 +17,18 @@ import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import compose, invert
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
-from stdr_lite.core.commands import CommandBuffer
+from stdr_lite.core.commands import CommandBuffer, CommandOutcome
 from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
-                                     PeriodicSchedule, RequestError, sensors_of,
+                                     PeriodicSchedule, RequestError, sensor_groups, sensors_of,
                                      SimulatedEntity, SimulationSettings)
 from stdr_lite.core.motion import motion_for
-from stdr_lite.core.odometry import Odometry, OdometryReading
+from stdr_lite.core.odometry import NO_SPREAD, Odometry, OdometryReading
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.sensors import RangeFinder, read_sensors
 from stdr_lite.core.world import PlacementError, World
 
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
-
-
-class CommandOutcome(enum.Enum):
-    """What became of a velocity command."""
-
-    APPLIED = 'applied'
-    CLAMPED = 'clamped to the speed limits'
-    IGNORED = 'ignored: not finite'
 
 
 class Simulation:
@@ -89,6 +80,7 @@ class Simulation:
         for entity in self._entities:
             for sensor in entity.sensors:
                 sensor.restart(0)
+        self._sensor_groups = None
 
     @property
     def occupancy_map(self) -> OccupancyMap:
@@ -212,6 +204,7 @@ class Simulation:
         self._odometry.add_robot(entity.start_pose)
         self._motion = np.vstack([self._motion, [0.0, 0.0, np.nan]])
         self._entities.append(entity)
+        self._sensor_groups = None
         self._renumber()
 
     def remove(self, name: str) -> None:
@@ -223,6 +216,7 @@ class Simulation:
         self._odometry.remove_robot(index)
         self._motion = np.delete(self._motion, index, axis=0)
         del self._entities[index]
+        self._sensor_groups = None
         self.answers.answer(name)
         self._renumber()
 
@@ -341,8 +335,8 @@ class Simulation:
 
     def ground_truth(self, name: str) -> OdometryReading:
         """Return the robot's true pose in the map frame and its applied velocity, exactly."""
-        return OdometryReading(self.pose(name), self.applied_velocity(name), np.zeros((3, 3)),
-                               (0.0, 0.0))
+        return OdometryReading(self.pose(name), self.applied_velocity(name), NO_SPREAD,
+                               (0.0, 0.0), exact=True)
 
     def map_to_odom(self, name: str) -> tuple[float, float, float]:
         """
@@ -355,15 +349,22 @@ class Simulation:
             return 0.0, 0.0, 0.0
         return compose(self.pose(name), invert(self.odometry(name).pose))
 
-    def due_sensors(self) -> list[tuple[str, object]]:
+    def due_sensors(self, wanted=None) -> list[tuple[str, object]]:
         """
-        Return (robot name, sensor spec) for each sensor due to read at this step.
+        Return (robot name, sensor spec) for each sensor due at this step of a robot wanted.
 
-        Each sensor is due once per period of sim time; its schedule moves on whether or not
-        the caller then reads it, so an unread sensor costs nothing.
+        wanted(name) says whether a robot's sensors are of interest (all are by default). Each
+        sensor is due once per period of sim time, read or not; sensors of one period and
+        phase share a schedule, so a step costs a check per group, not per sensor.
         """
-        return [(entity.name, sensor.spec) for entity in self._entities
-                for sensor in entity.sensors if sensor.schedule.due(self.time_ns)]
+        if self._sensor_groups is None:
+            self._sensor_groups = sensor_groups(self._entities, self.time_ns - self.dt_ns)
+        due = []
+        for schedule, members in self._sensor_groups:
+            if schedule.due(self.time_ns):
+                due += [(name, spec) for name, specs in members
+                        if wanted is None or wanted(name) for spec in specs]
+        return due
 
     def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""

@@ -52,17 +52,20 @@ def fill_odometry(message, time_ns, reading):
     set_stamp(message.header.stamp, time_ns)
     set_pose(message.pose.pose, *reading.pose)
     message.twist.twist.linear.x, message.twist.twist.angular.z = reading.velocity
-    pose_covariance = [0.0] * 36
-    twist_covariance = [0.0] * 36
-    if reading.pose_covariance.any() or any(reading.velocity_variance):
-        for index in range(6):
-            pose_covariance[7 * index] = twist_covariance[7 * index] = NEAR_CERTAIN
-        for row, row_place in enumerate(PLANAR):
-            for column, column_place in enumerate(PLANAR):
-                pose_covariance[6 * row_place + column_place] += float(
-                    reading.pose_covariance[row, column])
-        twist_covariance[0] += reading.velocity_variance[0]
-        twist_covariance[35] += reading.velocity_variance[1]
+    if reading.exact or not (reading.pose_covariance.any() or any(reading.velocity_variance)):
+        # Exact odometry: the zeros stay from the last time, unless a spread was written then
+        # (its diagonal is never zero).
+        if message.pose.covariance[0] != 0.0:
+            message.pose.covariance = message.twist.covariance = [0.0] * 36
+        return
+    pose_covariance = [NEAR_CERTAIN if index % 7 == 0 else 0.0 for index in range(36)]
+    twist_covariance = list(pose_covariance)
+    for row, row_place in enumerate(PLANAR):
+        for column, column_place in enumerate(PLANAR):
+            pose_covariance[6 * row_place + column_place] += float(
+                reading.pose_covariance[row, column])
+    twist_covariance[0] += reading.velocity_variance[0]
+    twist_covariance[35] += reading.velocity_variance[1]
     message.pose.covariance = pose_covariance
     message.twist.covariance = twist_covariance
 

@@ -2,7 +2,10 @@
 
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
+from rclpy.event_handler import PublisherEventCallbacks
 from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
+
+GROUND_TRUTH = 'ground_truth'
 
 
 class RobotTopics:
@@ -13,7 +16,9 @@ class RobotTopics:
     namespace and can be remapped; <robot> is the robot's topic namespace (its name unless it
     was spawned with another), which prefixes its frames too. Messages are built once and
     refilled at every publish. on_command(name, linear, angular) gets every command, plain or
-    stamped.
+    stamped. The ground truth and the sensors, which cost only when someone listens, keep
+    count of their readers from the middleware's matched events rather than asking the graph
+    at every message.
     """
 
     def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose):
@@ -27,8 +32,9 @@ class RobotTopics:
         self._ground_truth.header.frame_id = frames.map_frame
         self._ground_truth.child_frame_id = frames.base(prefix)
         self.odom_publisher = node.create_publisher(Odometry, f'{prefix}/odom', 10)
-        self._ground_truth_publisher = node.create_publisher(Odometry, f'{prefix}/ground_truth',
-                                                             10)
+        self._readers = {}
+        self._ground_truth_publisher = self._counted_publisher(
+            Odometry, f'{prefix}/ground_truth', GROUND_TRUTH)
         if stamped:
             command = node.create_subscription(
                 TwistStamped, f'{prefix}/cmd_vel',
@@ -44,22 +50,35 @@ class RobotTopics:
         self.cmd_vel_topic = command.topic_name
         self._sensors = {}
         for sensor in robot.sensors:
+            frame_id = sensor.spec.frame_id
             message = sensor_message(frames.sensor(prefix, sensor.spec), sensor.spec)
-            publisher = node.create_publisher(type(message), f'{prefix}/{sensor.spec.frame_id}',
-                                              10)
-            self._sensors[sensor.spec.frame_id] = (publisher, message)
+            publisher = self._counted_publisher(type(message), f'{prefix}/{frame_id}', frame_id)
+            self._sensors[frame_id] = (publisher, message)
+
+    def _counted_publisher(self, kind, topic, key):
+        """Create a publisher whose matched readers are counted in self._readers[key]."""
+        self._readers[key] = 0
+
+        def matched(status):
+            self._readers[key] = status.current_count
+        return self._node.create_publisher(
+            kind, topic, 10, event_callbacks=PublisherEventCallbacks(matched=matched))
 
     def publish_odometry(self, time_ns, reading, ground_truth):
-        """Publish the odometry reading, and the ground truth when anyone listens."""
+        """Publish the odometry reading, and the ground truth (a callable) when listened to."""
         fill_odometry(self._odometry, time_ns, reading)
         self.odom_publisher.publish(self._odometry)
-        if self._ground_truth_publisher.get_subscription_count():
-            fill_odometry(self._ground_truth, time_ns, ground_truth)
+        if self._readers[GROUND_TRUTH]:
+            fill_odometry(self._ground_truth, time_ns, ground_truth())
             self._ground_truth_publisher.publish(self._ground_truth)
 
     def listened(self, spec):
         """Whether anyone subscribes to this sensor's topic."""
-        return self._sensors[spec.frame_id][0].get_subscription_count() > 0
+        return self._readers[spec.frame_id] > 0
+
+    def any_listened(self):
+        """Whether anyone subscribes to any of the robot's sensors."""
+        return any(self._readers[frame_id] for frame_id in self._sensors)
 
     def publish_reading(self, spec, time_ns, reading):
         publisher, message = self._sensors[spec.frame_id]

@@ -10,7 +10,7 @@ from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from simple_robot_control.node_runtime import build_parser, declare_parameters, run
 from simple_robot_control.pose import pose_from_message
-from stdr_lite.core.simulation import CommandOutcome
+from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.world import PlacementError
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
@@ -53,7 +53,7 @@ class StdrLite(Node):
         self._clock_message = ClockMsg()
         self._map_publisher = self.create_publisher(OccupancyGrid, '/map', LATCHED)
         self.stepper = Stepper(self, self.simulation, self._step, self._publish_state,
-                               self._odometry_subscribers, params['real_time_factor'],
+                               self.odometry_subscribers, params['real_time_factor'],
                                params['lockstep'])
         self.sync_entities()
         self._map_publisher.publish(map_message(self.simulation.occupancy_map,
@@ -154,14 +154,15 @@ class StdrLite(Node):
     def _publish_state(self):
         """Publish every robot's odometry, its ground truth and the moving TF frames."""
         now_ns = self.simulation.time_ns
+        simulation = self.simulation
         for name, topics in self._topics.items():
-            topics.publish_odometry(now_ns, self.simulation.odometry(name),
-                                    self.simulation.ground_truth(name))
+            topics.publish_odometry(now_ns, simulation.odometry(name),
+                                    lambda name=name: simulation.ground_truth(name))
         self._frame_publisher.publish_moving(self.simulation, now_ns)
 
     def _publish_sensors(self):
         """Read and publish the sensors that are due and that someone listens to."""
-        jobs = [(name, spec) for name, spec in self.simulation.due_sensors()
+        jobs = [(name, spec) for name, spec in self.simulation.due_sensors(self._sensors_listened)
                 if self._topics[name].listened(spec)]
         if not jobs:
             return
@@ -169,7 +170,11 @@ class StdrLite(Node):
         for (name, spec), reading in zip(jobs, self.simulation.read_sensors(jobs)):
             self._topics[name].publish_reading(spec, now_ns, reading)
 
-    def _odometry_subscribers(self):
+    def _sensors_listened(self, name):
+        return self._topics[name].any_listened()
+
+    def odometry_subscribers(self):
+        """Count the subscriptions to every robot's odometry."""
         return sum(topics.odom_publisher.get_subscription_count()
                    for topics in self._topics.values())
 

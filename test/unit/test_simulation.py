@@ -112,6 +112,31 @@ def test_sensors_fall_due_at_their_own_frequency(room):
     assert due == {'laser_0': list(range(5, 51, 5)), 'sonar_0': list(range(10, 51, 10))}
 
 
+def test_each_sensor_keeps_its_own_phase_whoever_comes_and_goes(room):
+    """Sensors share schedules by reading times: a robot added later reads in its own phase."""
+    simulation = Simulation(room, SimulationSettings(rate_hz=50.0),
+                            [robot('a', 2.0, description=SENSING)])
+    due = {}
+    for step in range(1, 61):
+        if step == 8:
+            simulation.add_robot(robot('b', 4.0, description=SENSING))
+        if step == 23:
+            simulation.add_robot(robot('c', 6.0, description=SENSING))
+        if step == 40:
+            simulation.remove('b')
+        simulation.step()
+        for name, spec in simulation.due_sensors(wanted=lambda name: name != 'c' or step > 30):
+            due.setdefault((name, spec.frame_id), []).append(simulation.step_count)
+    assert due[('a', 'laser_0')] == list(range(5, 61, 5))
+    assert due[('b', 'laser_0')] == list(range(12, 40, 5))
+    assert due[('b', 'sonar_0')] == list(range(17, 40, 10))
+    assert due[('c', 'laser_0')] == list(range(32, 61, 5))
+    assert due[('c', 'sonar_0')] == [32, 42, 52]
+    simulation.reset(state=False, spawned=False)
+    simulation.step()
+    assert simulation.due_sensors() == []
+
+
 def test_readings_see_walls_and_other_robots(room):
     simulation = Simulation(room, robots=[robot('a', 2.0, description=SENSING),
                                           robot('b', 3.5)])
