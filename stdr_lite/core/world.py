@@ -149,6 +149,9 @@ class World:
         new_poses = np.array(ends)
         if self.robot_count > 1:
             moves &= ~self._moving_into_robots(new_poses, moves & (linear != 0.0), dt)
+        if moves.all():
+            self.poses = new_poses
+            return linear, angular
         self.poses = np.where(moves[:, None], new_poses, self.poses)
         return np.where(moves, linear, 0.0), np.where(moves, angular, 0.0)
 
