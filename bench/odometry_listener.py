@@ -5,14 +5,14 @@ A process of its own that listens to every robot's odometry, as RViz or a fleet 
 interrupted; bench.realtime runs it.
 """
 
+import argparse
 import sys
 
-from bench.round_trip import serve
+from bench.round_trip import HelperNode, serve
 from nav_msgs.msg import Odometry
-from rclpy.node import Node
 
 
-class OdometryListener(Node):
+class OdometryListener(HelperNode):
     """Takes every robot's odometry and does nothing with it."""
 
     def __init__(self, robot_count):
@@ -22,8 +22,10 @@ class OdometryListener(Node):
 
 
 def main(argv=None):
-    robot_count = int((sys.argv if argv is None else argv)[1])
-    return serve(lambda: OdometryListener(robot_count))
+    parser = argparse.ArgumentParser(prog='odometry_listener',
+                                     description='listen to every robot odometry')
+    parser.add_argument('robot_count', type=int)
+    return serve(parser, lambda options: OdometryListener(options.robot_count), argv)
 
 
 if __name__ == '__main__':

@@ -8,6 +8,7 @@ bench.round_trip` runs one), it makes the most round trips per second that rclpy
 simulator and a controller in lockstep on this machine: the yardstick of bench.realtime.
 """
 
+import argparse
 import os
 import signal
 import subprocess
@@ -16,10 +17,9 @@ import time
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-import rclpy
-from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
-from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
+from simple_robot_control.node_runtime import run
 
 ODOMETRY_TOPIC = '/robot0/odom'
 COMMAND_TOPIC = '/robot0/cmd_vel'
@@ -60,7 +60,18 @@ class Pacer(Node):
         self.send()
 
 
-class Echo(Node):
+class HelperNode(Node):
+    """A node of a bench helper process, run as the package's executables are, until a signal."""
+
+    def __init__(self, name, **kwargs):
+        super().__init__(name, **kwargs)
+        self.finished = Future()
+
+    def shut_down(self):
+        """Leave with nothing more to say."""
+
+
+class Echo(HelperNode):
     """Answers every odometry with a Twist, as a controller does, doing nothing else."""
 
     def __init__(self, **kwargs):
@@ -112,31 +123,19 @@ def round_trip_rtf(context, executor, separate_process, step_s=0.02, seconds=3.0
                 echo.wait()
 
 
-def serve(make_node):
-    """Spin the node make_node() gives until SIGINT or SIGTERM; return an exit code."""
+def serve(parser, make_node, argv=None):
+    """Run a helper node (make_node(options)) until SIGINT or SIGTERM; return an exit code."""
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
-        print(f'{sys.argv[0]}: run through bench.realtime, which keeps DDS on loopback',
+        print(f'{parser.prog}: run through bench.realtime, which keeps DDS on loopback',
               file=sys.stderr)
         return 2
-    stopped = []
-    # The EventsExecutor does not wake for a signal, so spin in short slices and look.
-    for signal_number in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signal_number, lambda *_: stopped.append(True))
-    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
-    executor = EventsExecutor()
-    executor.add_node(make_node())
-    try:
-        while not stopped:
-            executor.spin_once(timeout_sec=0.1)
-    finally:
-        executor.shutdown()
-        rclpy.try_shutdown()
-    return 0
+    return run(parser.prog, parser, make_node, argv)
 
 
-def main():
+def main(argv=None):
     """Run an echo until interrupted."""
-    return serve(Echo)
+    parser = argparse.ArgumentParser(prog='round_trip', description='the echo of the ceiling')
+    return serve(parser, lambda _: Echo(), argv)
 
 
 if __name__ == '__main__':

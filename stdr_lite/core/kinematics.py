@@ -49,7 +49,12 @@ def arc_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: 
 
 
 def wrap_angle_one(angle: float) -> float:
-    """Wrap one angle to (-pi, pi], as wrap_angle does."""
+    """
+    Wrap one angle to (-pi, pi], as wrap_angle does, bit for bit.
+
+    Not simple_robot_control.pose.wrap_angle: math.remainder may differ from numpy in the last
+    bit, and the simulator's few-body and many-body steps must agree exactly.
+    """
     wrapped = (angle + math.pi) % (2.0 * math.pi) - math.pi
     return math.pi if wrapped == -math.pi else wrapped
 

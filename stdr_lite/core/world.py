@@ -241,8 +241,8 @@ class World:
         key = (x, y, heading, linear, turn, dt, radius)
         blocked = self._blocked_steps.get(key)
         if blocked is None:
-            blocked = bool(self._blocked(*(np.array([value]) for value in key[:5]), dt,
-                                         np.array([radius]))[0])
+            body = [np.array([value]) for value in (x, y, heading, linear, turn)]
+            blocked = bool(self._blocked(*body, dt, np.array([radius]))[0])
             if len(self._blocked_steps) >= REMEMBERED_STEPS:
                 self._blocked_steps.clear()
             self._blocked_steps[key] = blocked

@@ -64,13 +64,18 @@ class RobotTopics:
         return self._node.create_publisher(
             kind, topic, 10, event_callbacks=PublisherEventCallbacks(matched=matched))
 
-    def publish_odometry(self, time_ns, reading, ground_truth):
-        """Publish the odometry reading, and the ground truth (a callable) when listened to."""
+    def publish_odometry(self, time_ns, reading):
         fill_odometry(self._odometry, time_ns, reading)
         self.odom_publisher.publish(self._odometry)
-        if self._readers[GROUND_TRUTH]:
-            fill_odometry(self._ground_truth, time_ns, ground_truth())
-            self._ground_truth_publisher.publish(self._ground_truth)
+
+    @property
+    def ground_truth_listened(self):
+        """Whether anyone subscribes to the ground truth, so it is worth publishing."""
+        return self._readers[GROUND_TRUTH] > 0
+
+    def publish_ground_truth(self, time_ns, reading):
+        fill_odometry(self._ground_truth, time_ns, reading)
+        self._ground_truth_publisher.publish(self._ground_truth)
 
     def listened(self, spec):
         """Whether anyone subscribes to this sensor's topic."""

@@ -153,12 +153,13 @@ class StdrLite(Node):
 
     def _publish_state(self):
         """Publish every robot's odometry, its ground truth and the moving TF frames."""
-        now_ns = self.simulation.time_ns
         simulation = self.simulation
+        now_ns = simulation.time_ns
         for name, topics in self._topics.items():
-            topics.publish_odometry(now_ns, simulation.odometry(name),
-                                    lambda name=name: simulation.ground_truth(name))
-        self._frame_publisher.publish_moving(self.simulation, now_ns)
+            topics.publish_odometry(now_ns, simulation.odometry(name))
+            if topics.ground_truth_listened:
+                topics.publish_ground_truth(now_ns, simulation.ground_truth(name))
+        self._frame_publisher.publish_moving(simulation, now_ns)
 
     def _publish_sensors(self):
         """Read and publish the sensors that are due and that someone listens to."""
