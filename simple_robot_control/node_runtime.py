@@ -1,143 +1,36 @@
-"""What every executable of this package shares: parameters, command line, and main()."""
+"""What every executable of this package shares: the command line, main(), and its ending."""
 
 import argparse
-from dataclasses import dataclass
 import os
+import re
 import signal
 import sys
+import threading
+import time
 
-from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
 import rclpy
-from rclpy.exceptions import InvalidParameterTypeException, ParameterException
+from rclpy.exceptions import NameValidationException
 from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 from rclpy.utilities import get_default_context, remove_ros_args
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
-from simple_robot_control.validation import Bounds, compact, is_finite_number, ros_name_problem
 
 SIGNAL_CHECK_PERIOD = 0.1
 # Up to this many publishers and subscriptions, a node is taken down endpoint by endpoint. The
 # teardown grows with the square of the count: 807 endpoints took 0.37 s here, over 1 s on a
 # loaded machine; 400 take about 0.1 s.
 ORDERLY_TEARDOWN_LIMIT = 400
-
-_TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
-          float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING,
-          list: ParameterType.PARAMETER_DOUBLE_ARRAY}
+# After Ctrl-C or SIGTERM a program has this long to say its last words; then it ends anyway.
+LAST_WORDS = 0.9
+# rcl reports where in its C sources it found a problem: of no use to the user.
+_SOURCE_LOCATION = re.compile(r'(?:, at [^,]*\.c:\d+)+')
 
 
 class ConfigError(Exception):
     """A configuration problem reported as one line, ending the program with exit code 2."""
-
-
-@dataclass(frozen=True)
-class ParameterSpec:
-    """
-    One node parameter: its default, a description with units, and what values it accepts.
-
-    bounds limits a number, choices a string, ros_name makes a string a ROS name (a robot or
-    frame name that goes into topics); constraints adds words for what none of those can say.
-    A parameter is read-only unless tunable, in which case `ros2 param set` may change it while
-    the node runs, under the same checks as at start.
-    """
-
-    name: str
-    default: object
-    description: str
-    bounds: Bounds | None = None
-    choices: tuple = ()
-    ros_name: bool = False
-    constraints: str = ''
-    tunable: bool = False
-
-    def constraint_text(self) -> str:
-        words = [self.bounds.text()] if self.bounds else []
-        if self.choices:
-            words.append(' | '.join(self.choices))
-        if self.ros_name:
-            words.append('a ROS name')
-        if self.constraints:
-            words.append(self.constraints)
-        return '; '.join(words)
-
-    def descriptor(self) -> ParameterDescriptor:
-        return ParameterDescriptor(name=self.name, type=_TYPES[type(self.default)],
-                                   description=self.description,
-                                   additional_constraints=self.constraint_text(),
-                                   read_only=not self.tunable)
-
-    def problem(self, value) -> str | None:
-        """Return one line saying why value is not acceptable, or None."""
-        if self.bounds is not None:
-            return self.bounds.problem(self.name, value)
-        if self.choices and value not in self.choices:
-            return f'{self.name} must be one of {", ".join(self.choices)}, got {value!r}'
-        if self.ros_name:
-            return ros_name_problem(value, self.name)
-        if isinstance(self.default, list) and not all(is_finite_number(item) for item in value):
-            return f'{self.name} must hold finite numbers, got {[compact(v) for v in value]}'
-        return None
-
-    def help_line(self) -> str:
-        default = self.default if self.default != '' else "''"
-        constraints = self.constraint_text()
-        extra = ', '.join(part for part in (constraints, 'tunable' if self.tunable else '')
-                          if part)
-        return f'  {self.name} [default {default}]: {self.description}' + (
-            f' ({extra})' if extra else '')
-
-
-def declare_parameters(node, specs):
-    """Declare specs on node and return their checked values by name; problems are ConfigErrors."""
-    values = {}
-    for spec in specs:
-        try:
-            node.declare_parameter(spec.name, spec.default, spec.descriptor())
-        except InvalidParameterTypeException as error:
-            hint = ' (write a double with a decimal point, e.g. 50.0)' if isinstance(
-                spec.default, float) else ''
-            raise ConfigError(f'parameter {spec.name}: {error}{hint}') from None
-        except ParameterException as error:
-            raise ConfigError(f'parameter {spec.name}: {error}') from None
-        value = node.get_parameter(spec.name).value
-        value = list(value) if isinstance(spec.default, list) else value
-        problem = spec.problem(value)
-        if problem is not None:
-            raise ConfigError(problem)
-        values[spec.name] = value
-    return values
-
-
-def accept_tuning(node, specs, apply):
-    """
-    Let `ros2 param set` change the tunable specs while node runs.
-
-    A request is checked whole, by the same rules as at start: if every value is acceptable,
-    apply(values by name) receives them all; otherwise none is taken and the reply names the
-    first problem. Read-only parameters are refused by rclpy itself.
-    """
-    tunable = {spec.name: spec for spec in specs if spec.tunable}
-
-    def on_set(parameters):
-        changes = {}
-        for parameter in parameters:
-            spec = tunable.get(parameter.name)
-            if spec is None:
-                continue
-            problem = spec.problem(parameter.value)
-            if problem is not None:
-                node.get_logger().warn(f'refused: {problem}')
-                return SetParametersResult(successful=False, reason=problem)
-            changes[parameter.name] = parameter.value
-        if changes:
-            apply(changes)
-            node.get_logger().info('tuned: ' + ', '.join(
-                f'{name} = {compact(value)}' for name, value in changes.items()))
-        return SetParametersResult(successful=True)
-
-    node.add_on_set_parameters_callback(on_set)
 
 
 def require(condition, message):
@@ -165,17 +58,29 @@ def run(prog, parser, make_node, argv=None):
     after shut_down(), however busy the node is.
     """
     argv = list(sys.argv if argv is None else argv)
-    options = parser.parse_args(remove_ros_args(argv)[1:])
+    try:
+        options = parser.parse_args(remove_ros_args(argv)[1:])
+    except rclpy_implementation.RCLInvalidROSArgsError as error:
+        print(f'{prog}: error: bad --ros-args: {rcl_problem(error)}', file=sys.stderr)
+        return EXIT_BAD_INPUT
     ending = _Ending()
     # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with SIGINT
     # then SIGTERM, so the handlers are ours whatever the parent set up.
     for signal_number in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signal_number, ending.on_signal)
-    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    _watch_for_signals()
+    try:
+        rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    except rclpy_implementation.RCLError as error:
+        print(f'{prog}: error: cannot start ROS: {rcl_problem(error)}', file=sys.stderr)
+        return EXIT_BAD_INPUT
     node = executor = None
     code, leave_endpoints = EXIT_OK, False
     try:
-        node = make_node(options)
+        try:
+            node = make_node(options)
+        except NameValidationException as error:
+            raise ConfigError(f'{error} (check the --ros-args remappings)') from None
         node.finished.add_done_callback(lambda _: ending.complete())
         executor = EventsExecutor()
         executor.add_node(node)
@@ -207,6 +112,34 @@ def run(prog, parser, make_node, argv=None):
     return code
 
 
+def rcl_problem(error) -> str:
+    """Say in one line what rcl found wrong, without the places in its C sources."""
+    text = ' '.join(_SOURCE_LOCATION.sub('', str(error)).split())
+    return text.removeprefix('Failed to parse ROS arguments: ')
+
+
+def _watch_for_signals():
+    """
+    End the process LAST_WORDS after Ctrl-C or SIGTERM, whatever its main thread is doing.
+
+    Python runs a signal handler only between bytecodes of the main thread, so a long call
+    into compiled code would hold it back. The signal's arrival is also written to a pipe, at
+    once, by the interpreter's own low-level handler; a thread waiting on the pipe ends the
+    process if the orderly ending has not done so in time.
+    """
+    read_end, write_end = os.pipe()
+    os.set_blocking(write_end, False)
+    signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
+
+    def watch():
+        os.read(read_end, 1)
+        time.sleep(LAST_WORDS)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(EXIT_OK)
+    threading.Thread(target=watch, name='signal watch', daemon=True).start()
+
+
 def _endpoint_count(node):
     return sum(1 for _ in node.publishers) + sum(1 for _ in node.subscriptions)
 
@@ -225,7 +158,7 @@ def _exit_now(code):
     os._exit(code)
 
 
-class _Interrupted(Exception):
+class _Interrupted(BaseException):
     """A signal came while the node was being built."""
 
 

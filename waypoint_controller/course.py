@@ -9,7 +9,8 @@ robot_status.
 import math
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from simple_robot_control.node_runtime import ConfigError, ParameterSpec, require
+from simple_robot_control.node_runtime import ConfigError, require
+from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
 from simple_robot_control.validation import Bounds
 from waypoint_controller.control_law import ControllerConfig

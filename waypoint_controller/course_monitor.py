@@ -13,12 +13,12 @@ import time
 
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
-from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
-                                               ParameterSpec, run)
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from std_msgs.msg import String
 from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
@@ -40,7 +40,7 @@ DESCRIPTION = ('course_monitor: print each robot_status message of a waypoint_co
                '1 on ABORTED. Give it the same course and tolerances as the controller.')
 
 
-class CourseMonitor(Node):
+class CourseMonitor(GuardedNode):
     """Listens to robot_status and odometry; the output goes to write(text)."""
 
     def __init__(self, waypoint_file=None, write=None, interactive=None, **kwargs):

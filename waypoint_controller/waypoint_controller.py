@@ -8,15 +8,15 @@ import time
 from nav_msgs.msg import OccupancyGrid, Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
-from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME, other_publishers
-from simple_robot_control.node_runtime import (accept_tuning, build_parser, ConfigError,
-                                               declare_parameters, ParameterSpec, run)
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.parameters import accept_tuning, declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
@@ -92,7 +92,7 @@ def controller_config(values):
         **{name: values[name] for name in _CONFIG_FIELDS})
 
 
-class WaypointController(Node):
+class WaypointController(GuardedNode):
     """Reads odometry, commands velocities, and reports progress on robot_status."""
 
     def __init__(self, waypoint_file=None, **kwargs):

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.ndimage import distance_transform_edt
 from simple_robot_control.occupancy_map import OccupancyMap
+from stdr_lite.core.collision import wall_distances
 from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 GRAZING_STRIDES = 4
@@ -25,21 +25,24 @@ MARCH_POINTS_PER_BATCH = 1 << 22
 class RangeFinder:
     """Casts rays against the walls of an occupancy map and against circles."""
 
-    def __init__(self, occupancy_map: OccupancyMap):
+    def __init__(self, occupancy_map: OccupancyMap, distances: np.ndarray | None = None):
+        """Prepare the casts; distances are the map's wall_distances, if already known."""
         self.resolution = occupancy_map.resolution
         origin_x, origin_y, yaw = occupancy_map.origin
         self._origin = (origin_x, origin_y)
         self._cos_yaw, self._sin_yaw = math.cos(yaw), math.sin(yaw)
         self._height, self._width = occupancy_map.occupied.shape
         self._diagonal = float(np.hypot(*occupancy_map.extent))
-        # Centre-to-centre distance to the nearest occupied cell, less one cell diagonal:
-        # no point of this cell is closer than that to any point of an occupied cell.
-        cells = distance_transform_edt(~occupancy_map.occupied)
+        # Centre-to-centre distance to the nearest occupied cell (or the map's edge), less one
+        # cell diagonal: no point of this cell is closer than that to any point of an occupied
+        # cell.
+        if distances is None:
+            distances = wall_distances(occupancy_map.occupied)
+        occupied = occupancy_map.occupied
         # A border of -1 stands for everything outside the map: indices are clipped onto it.
         self._clearance = np.pad(
-            np.where(occupancy_map.occupied, -1.0,
-                     np.maximum(cells - math.sqrt(2.0), 0.0) * self.resolution),
-            1, constant_values=-1.0)
+            np.where(occupied, -1.0, np.maximum(distances - math.sqrt(2.0), 0.0)
+                     * self.resolution), 1, constant_values=-1.0)
 
     def cast(self, x: ArrayLike, y: ArrayLike, angle: ArrayLike, max_range: ArrayLike,
              circles: tuple | None = None) -> np.ndarray:

@@ -6,7 +6,8 @@ applied, an obstacle's motion, the odometry, the sensors' schedule) is added, re
 renumbered here in one place, so those structures never fall out of step. Every request is
 checked whole before anything changes: a refusal raises and leaves the simulation as it was.
 The stdr_lite node only turns messages into calls of this class and its results into
-messages; tests and benchmarks drive it directly.
+messages; tests and benchmarks drive it directly. The questions that change nothing (names,
+poses, readings) are its base class's, in queries.py.
 """
 
 from contextlib import contextmanager
@@ -15,23 +16,23 @@ from typing import Iterable
 
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
-from simple_robot_control.pose import compose, invert
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
 from stdr_lite.core.commands import CommandBuffer, CommandOutcome
 from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
-                                     PeriodicSchedule, RequestError, sensor_groups, sensors_of,
-                                     SimulatedEntity, SimulationSettings)
+                                     PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
+                                     SimulationSettings)
 from stdr_lite.core.motion import motion_for
-from stdr_lite.core.odometry import NO_SPREAD, Odometry, OdometryReading
+from stdr_lite.core.odometry import Odometry
+from stdr_lite.core.queries import SimulationQueries
 from stdr_lite.core.robot_description import RobotEntry
-from stdr_lite.core.sensors import RangeFinder, read_sensors
+from stdr_lite.core.terrain import survey, Terrain
 from stdr_lite.core.world import PlacementError, World
 
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
 
 
-class Simulation:
+class Simulation(SimulationQueries):
     """
     Unicycle robots and circular obstacles in one map, stepped together every dt = 1/rate_hz.
 
@@ -52,7 +53,7 @@ class Simulation:
         self._entities, self._indices = [], {}
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
-        self._build(occupancy_map)
+        self._build(self.survey(occupancy_map))
         self._restart_time()
         for entry in robots:
             try:
@@ -60,9 +61,19 @@ class Simulation:
             except (PlacementError, RequestError) as error:
                 raise type(error)(f'{entry.name} in {occupancy_map.source}: {error}') from None
 
-    def _build(self, occupancy_map):
-        self.world = World(occupancy_map, self._largest, self.settings.integrator)
-        self._finder = RangeFinder(occupancy_map)
+    def survey(self, occupancy_map: OccupancyMap) -> Terrain:
+        """
+        Derive what this simulation needs of a map, for load_map: the costly part of a switch.
+
+        It reads nothing that changes while the simulation runs, so it may run in a thread of
+        its own while the simulation steps on.
+        """
+        return survey(occupancy_map, self._largest)
+
+    def _build(self, terrain):
+        self._terrain = terrain
+        self.world = World(terrain.occupancy_map, self._largest, self.settings.integrator,
+                           terrain.checker)
         self._commands = CommandBuffer(0, self.settings.max_linear_speed,
                                        self.settings.max_angular_speed,
                                        self.settings.cmd_vel_timeout)
@@ -81,74 +92,6 @@ class Simulation:
             for sensor in entity.sensors:
                 sensor.restart(0)
         self._sensor_groups = None
-
-    @property
-    def occupancy_map(self) -> OccupancyMap:
-        return self.world.map
-
-    @property
-    def dt(self) -> float:
-        """Return the step in simulated seconds."""
-        return self.dt_ns / NANOSECONDS
-
-    @property
-    def time_ns(self) -> int:
-        """Return the simulated nanoseconds since start."""
-        return self.step_count * self.dt_ns
-
-    @property
-    def sim_time(self) -> float:
-        """Return the simulated seconds since start."""
-        return self.time_ns / NANOSECONDS
-
-    @property
-    def names(self) -> list[str]:
-        """Return every entity's name, in the order they were added."""
-        return [entity.name for entity in self._entities]
-
-    @property
-    def robot_names(self) -> list[str]:
-        return [entity.name for entity in self._entities if entity.is_robot]
-
-    @property
-    def obstacle_names(self) -> list[str]:
-        return [entity.name for entity in self._entities if not entity.is_robot]
-
-    @property
-    def obstacles_moving(self) -> bool:
-        """Whether any obstacle has a velocity, so its pose changes from step to step."""
-        return bool(np.any(self._motion[:, :2] != 0.0))
-
-    def __contains__(self, name: str) -> bool:
-        return name in self._indices
-
-    def entity(self, name: str) -> SimulatedEntity:
-        return self._entities[self._index(name)]
-
-    def robot(self, name: str) -> SimulatedEntity:
-        entity = self.entity(name)
-        if not entity.is_robot:
-            raise RequestError(f'{name} is a {entity.category.value}, not a robot')
-        return entity
-
-    def pose(self, name: str) -> tuple[float, float, float]:
-        """Return the entity's (x, y, theta) in the map frame."""
-        x, y, theta = self.world.poses[self._index(name)].tolist()
-        return x, y, theta
-
-    def applied_velocity(self, name: str) -> tuple[float, float]:
-        """Return the (linear, angular) velocity of the last step: zero while blocked."""
-        index = self._index(name)
-        return float(self._applied[0][index]), float(self._applied[1][index])
-
-    def velocity(self, name: str) -> tuple[float, float, float]:
-        """Return the (x, y, angular) velocity of the last step in the map frame."""
-        index = self._index(name)
-        linear, angular = self.applied_velocity(name)
-        heading = self._motion[index, 2]
-        if math.isnan(heading):
-            heading = float(self.world.poses[index, 2])
-        return linear * math.cos(heading), linear * math.sin(heading), angular
 
     def default_name(self, prefix: str = 'robot') -> str:
         """Return <prefix><K> with the smallest K not taken."""
@@ -284,26 +227,28 @@ class Simulation:
         """
         keep = [entity for entity in self._entities if not (spawned and entity.spawned)]
         if state:
-            self._rebuild(self.world.map, keep)
+            self._rebuild(self._terrain, keep)
         else:
             for entity in [entity for entity in self._entities if entity not in keep]:
                 self.remove(entity.name)
         if time:
             self._restart_time()
 
-    def load_map(self, occupancy_map: OccupancyMap) -> None:
+    def load_map(self, world: OccupancyMap | Terrain) -> None:
         """
-        Replace the map, as a standard LoadWorld does.
+        Replace the map (or a Terrain from survey()), as a standard LoadWorld does.
 
         Spawned entities go, the others return to their start poses, and time restarts.
         PlacementError if one of them does not fit there; nothing changes then.
         """
-        self._rebuild(occupancy_map, [entity for entity in self._entities if not entity.spawned])
+        terrain = world if isinstance(world, Terrain) else self.survey(world)
+        self._rebuild(terrain, [entity for entity in self._entities if not entity.spawned])
         self._restart_time()
 
-    def _rebuild(self, occupancy_map, entities):
-        """Put entities at their start poses in a world of this map, all or none of them."""
-        trial = World(occupancy_map, self._largest, self.settings.integrator)
+    def _rebuild(self, terrain, entities):
+        """Put entities at their start poses in a world of this terrain, all or none of them."""
+        trial = World(terrain.occupancy_map, self._largest, self.settings.integrator,
+                      terrain.checker)
         for entity in entities:
             try:
                 trial.add_robot(entity.start_pose, entity.radius)
@@ -314,72 +259,14 @@ class Simulation:
                                             entities[error.overlapped].name)
                 raise PlacementError(f'{entity.name} cannot stand at its start pose: '
                                      f'{reason}') from None
-        self._build(occupancy_map)
+        self._build(terrain)
         self._entities, self._indices = [], {}
         for entity in entities:
             self._append(entity)
 
-    def odometry_due(self) -> bool:
-        """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
-        return self._odometry_schedule.due(self.time_ns)
-
-    def odometry(self, name: str) -> OdometryReading:
-        """
-        Return the robot's odometry: its pose in its odom frame and its measured velocity.
-
-        Without noise these are the true pose and the applied velocity, with zero spread.
-        """
-        if self._odometry.noise.enabled:
-            return self._odometry.reading(self._index(name))
-        return self.ground_truth(name)
-
-    def ground_truth(self, name: str) -> OdometryReading:
-        """Return the robot's true pose in the map frame and its applied velocity, exactly."""
-        return OdometryReading(self.pose(name), self.applied_velocity(name), NO_SPREAD,
-                               (0.0, 0.0), exact=True)
-
-    def map_to_odom(self, name: str) -> tuple[float, float, float]:
-        """
-        Return the transform from the map frame to the robot's odom frame.
-
-        It is what makes map -> odom -> base_link the true pose, as a perfect localiser would
-        publish it: the identity while the odometry is exact.
-        """
-        if not self._odometry.noise.enabled:
-            return 0.0, 0.0, 0.0
-        return compose(self.pose(name), invert(self.odometry(name).pose))
-
-    def due_sensors(self, wanted=None) -> list[tuple[str, object]]:
-        """
-        Return (robot name, sensor spec) for each sensor due at this step of a robot wanted.
-
-        wanted(name) says whether a robot's sensors are of interest (all are by default). Each
-        sensor is due once per period of sim time, read or not; sensors of one period and
-        phase share a schedule, so a step costs a check per group, not per sensor.
-        """
-        if self._sensor_groups is None:
-            self._sensor_groups = sensor_groups(self._entities, self.time_ns - self.dt_ns)
-        due = []
-        for schedule, members in self._sensor_groups:
-            if schedule.due(self.time_ns):
-                due += [(name, spec) for name, specs in members
-                        if wanted is None or wanted(name) for spec in specs]
-        return due
-
-    def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
-        """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
-        return read_sensors(self._finder, self.world.poses, self.world.radii,
-                            [(self._index(name), spec) for name, spec in jobs], self._noise)
-
     def expect_answers(self) -> None:
         """Lockstep: from now on, wait for a command from every robot before stepping."""
         self.answers.expect(self.robot_names)
-
-    def _index(self, name: str) -> int:
-        try:
-            return self._indices[name]
-        except KeyError:
-            raise RequestError(f'no entity named {name!r}') from None
 
     @contextmanager
     def _naming_overlaps(self):

@@ -36,12 +36,14 @@ class World:
     Rotation in place never moves the footprint, so it is always allowed.
     """
 
-    def __init__(self, occupancy_map: OccupancyMap, max_radius: float, integrator: str = 'euler'):
+    def __init__(self, occupancy_map: OccupancyMap, max_radius: float, integrator: str = 'euler',
+                 checker: FootprintChecker | None = None):
+        """Make an empty world; checker, if given, is the map's, made for max_radius."""
         if integrator not in INTEGRATORS:
             raise ValueError(f'integrator must be one of {", ".join(INTEGRATORS)}, '
                              f'got {integrator!r}')
         self.map = occupancy_map
-        self.checker = FootprintChecker(occupancy_map, max_radius)
+        self.checker = checker or FootprintChecker(occupancy_map, max_radius)
         self._advance = INTEGRATORS[integrator]
         self._advance_one = INTEGRATORS_ONE[integrator]
         self._blocked_steps = {}

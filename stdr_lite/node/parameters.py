@@ -3,8 +3,9 @@
 from dataclasses import dataclass, replace
 import math
 
-from simple_robot_control.node_runtime import ConfigError, ParameterSpec, require
+from simple_robot_control.node_runtime import ConfigError, require
 from simple_robot_control.occupancy_map import load_map, MapError
+from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE
 from stdr_lite.core.kinematics import INTEGRATORS

@@ -4,11 +4,12 @@ import sys
 
 from nav_msgs.msg import OccupancyGrid
 import numpy as np
-from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
-from simple_robot_control.node_runtime import build_parser, declare_parameters, run
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import pose_from_message
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.world import PlacementError
@@ -31,7 +32,7 @@ LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
-class StdrLite(Node):
+class StdrLite(GuardedNode):
     """
     Unicycle robots and obstacles in a map_server world, stepped at a fixed rate.
 

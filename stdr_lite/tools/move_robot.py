@@ -7,11 +7,12 @@ import time
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
-from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
-from simple_robot_control.node_runtime import build_parser, declare_parameters, ParameterSpec, run
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
@@ -38,7 +39,7 @@ class SimulatorSilent(Exception):
     """No odometry arrived within odom_timeout."""
 
 
-class MoveRobot(Node):
+class MoveRobot(GuardedNode):
     """Runs the lab dialogue in a worker thread while the executor delivers odometry."""
 
     def __init__(self, read_line=None, write=None, **kwargs):

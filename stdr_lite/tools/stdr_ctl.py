@@ -13,10 +13,10 @@ import uuid
 from action_msgs.msg import GoalInfo, GoalStatus, GoalStatusArray
 from action_msgs.srv import CancelGoal
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
 from rclpy.qos import qos_profile_action_status_default
 from rclpy.task import Future
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
+from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import run
 from simulation_interfaces.msg import Result
 from stdr_lite.node.answers import SERVICE_QOS
@@ -27,7 +27,7 @@ POLL_PERIOD = 0.05
 ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
 
 
-class StdrCtl(Node):
+class StdrCtl(GuardedNode):
     """Sends one command's requests in turn and finishes with the exit code of the answer."""
 
     def __init__(self, options, write=print, complain=None, **kwargs):

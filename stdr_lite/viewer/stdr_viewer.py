@@ -15,14 +15,14 @@ import time
 from nav_msgs.msg import OccupancyGrid, Odometry
 import numpy as np
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
-from simple_robot_control.node_runtime import (build_parser, ConfigError, declare_parameters,
-                                               ParameterSpec, run)
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds
@@ -62,7 +62,7 @@ DESCRIPTION = ('stdr_viewer: a live view of a stdr_lite (or STDR) world: the map
                'map, q or closing the window quits.')
 
 
-class StdrViewer(Node):
+class StdrViewer(GuardedNode):
     """Fills a Scene from topics and paints it at a steady rate."""
 
     def __init__(self, surface=None, **kwargs):

@@ -1,0 +1,72 @@
+"""
+Nodes that a bug in one callback cannot kill: the last resort behind every check.
+
+Expected problems (bad input, refusals) are handled where they arise, each with its own line.
+What no check foresaw must still not end the node: every subscription, timer and service
+callback of a GuardedNode runs inside a guard that turns an unexpected exception into one
+logged line naming the callback, the exception and where it was raised, and lets the node carry
+on. A guarded service answers with its response's defaults, unless given a failure answer.
+"""
+
+import os
+import time
+import traceback
+
+from rclpy.node import Node
+
+# An error repeated by the same callback is logged at most this often (wall seconds).
+REPEAT_AFTER = 5.0
+MESSAGE_LENGTH = 200
+
+
+class GuardedNode(Node):
+    """An rclpy Node whose callbacks are guarded (see the module's docstring)."""
+
+    def __init__(self, *args, **kwargs):
+        self._reported_at = {}
+        super().__init__(*args, **kwargs)
+
+    def guard(self, callback, what, failure=None):
+        """
+        Return callback guarded: an exception is reported, and failure(*args) answered instead.
+
+        failure defaults to returning None; for a service it gives the response to send.
+        """
+        def guarded(*args):
+            try:
+                return callback(*args)
+            except Exception as error:  # noqa: B902  the last resort, by design
+                self.report_internal_error(what, error)
+                return None if failure is None else failure(*args)
+        return guarded
+
+    def report_internal_error(self, what, error):
+        """Log one line about an exception nothing expected, at most every REPEAT_AFTER s."""
+        now = time.monotonic()
+        if now - self._reported_at.get(what, -REPEAT_AFTER) < REPEAT_AFTER:
+            return
+        self._reported_at[what] = now
+        frames = traceback.extract_tb(error.__traceback__)
+        where = (f' at {os.path.basename(frames[-1].filename)}:{frames[-1].lineno}'
+                 if frames else '')
+        text = ' '.join(str(error).split())
+        if len(text) > MESSAGE_LENGTH:
+            text = text[:MESSAGE_LENGTH] + '...'
+        self.get_logger().error(f'internal error in {what}: {type(error).__name__}: {text}'
+                                f'{where}; the node carries on (please report this)')
+
+    def create_subscription(self, msg_type, topic, callback, qos_profile, **kwargs):
+        return super().create_subscription(
+            msg_type, topic, self.guard(callback, f'the subscription to {topic}'), qos_profile,
+            **kwargs)
+
+    def create_timer(self, timer_period_sec, callback, *args, **kwargs):
+        return super().create_timer(timer_period_sec, self.guard(callback, 'a timer'), *args,
+                                    **kwargs)
+
+    def create_service(self, srv_type, srv_name, callback, *, failure=None, **kwargs):
+        """Create a service; failure(request, response) answers when callback raises."""
+        return super().create_service(
+            srv_type, srv_name, self.guard(callback, f'the service {srv_name}',
+                                           failure or (lambda request, response: response)),
+            **kwargs)

@@ -1,0 +1,151 @@
+"""
+What can be asked of a simulation without changing it: names, poses, velocities, readings.
+
+Simulation (simulation.py) holds the state and every change to it; this base class holds the
+questions, so each module keeps to one role. No ROS here.
+"""
+
+import math
+
+import numpy as np
+from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.pose import compose, invert
+from stdr_lite.core.entities import NANOSECONDS, RequestError, sensor_groups, SimulatedEntity
+from stdr_lite.core.odometry import NO_SPREAD, OdometryReading
+from stdr_lite.core.sensors import read_sensors
+
+
+class SimulationQueries:
+    """
+    The read-only half of Simulation: it relies on the state Simulation keeps.
+
+    That is world (poses and radii), _entities and _indices (by name), _applied (the velocities
+    of the last step), _motion (obstacles' slides), _odometry and its schedule, the sensor
+    groups and noise, the terrain, step_count and dt_ns.
+    """
+
+    @property
+    def occupancy_map(self) -> OccupancyMap:
+        return self.world.map
+
+    @property
+    def dt(self) -> float:
+        """Return the step in simulated seconds."""
+        return self.dt_ns / NANOSECONDS
+
+    @property
+    def time_ns(self) -> int:
+        """Return the simulated nanoseconds since start."""
+        return self.step_count * self.dt_ns
+
+    @property
+    def sim_time(self) -> float:
+        """Return the simulated seconds since start."""
+        return self.time_ns / NANOSECONDS
+
+    @property
+    def names(self) -> list[str]:
+        """Return every entity's name, in the order they were added."""
+        return [entity.name for entity in self._entities]
+
+    @property
+    def robot_names(self) -> list[str]:
+        return [entity.name for entity in self._entities if entity.is_robot]
+
+    @property
+    def obstacle_names(self) -> list[str]:
+        return [entity.name for entity in self._entities if not entity.is_robot]
+
+    @property
+    def obstacles_moving(self) -> bool:
+        """Whether any obstacle has a velocity, so its pose changes from step to step."""
+        return bool(np.any(self._motion[:, :2] != 0.0))
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._indices
+
+    def entity(self, name: str) -> SimulatedEntity:
+        return self._entities[self._index(name)]
+
+    def robot(self, name: str) -> SimulatedEntity:
+        entity = self.entity(name)
+        if not entity.is_robot:
+            raise RequestError(f'{name} is a {entity.category.value}, not a robot')
+        return entity
+
+    def pose(self, name: str) -> tuple[float, float, float]:
+        """Return the entity's (x, y, theta) in the map frame."""
+        x, y, theta = self.world.poses[self._index(name)].tolist()
+        return x, y, theta
+
+    def applied_velocity(self, name: str) -> tuple[float, float]:
+        """Return the (linear, angular) velocity of the last step: zero while blocked."""
+        index = self._index(name)
+        return float(self._applied[0][index]), float(self._applied[1][index])
+
+    def velocity(self, name: str) -> tuple[float, float, float]:
+        """Return the (x, y, angular) velocity of the last step in the map frame."""
+        index = self._index(name)
+        linear, angular = self.applied_velocity(name)
+        heading = self._motion[index, 2]
+        if math.isnan(heading):
+            heading = float(self.world.poses[index, 2])
+        return linear * math.cos(heading), linear * math.sin(heading), angular
+
+    def odometry_due(self) -> bool:
+        """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
+        return self._odometry_schedule.due(self.time_ns)
+
+    def odometry(self, name: str) -> OdometryReading:
+        """
+        Return the robot's odometry: its pose in its odom frame and its measured velocity.
+
+        Without noise these are the true pose and the applied velocity, with zero spread.
+        """
+        if self._odometry.noise.enabled:
+            return self._odometry.reading(self._index(name))
+        return self.ground_truth(name)
+
+    def ground_truth(self, name: str) -> OdometryReading:
+        """Return the robot's true pose in the map frame and its applied velocity, exactly."""
+        return OdometryReading(self.pose(name), self.applied_velocity(name), NO_SPREAD,
+                               (0.0, 0.0), exact=True)
+
+    def map_to_odom(self, name: str) -> tuple[float, float, float]:
+        """
+        Return the transform from the map frame to the robot's odom frame.
+
+        It is what makes map -> odom -> base_link the true pose, as a perfect localiser would
+        publish it: the identity while the odometry is exact.
+        """
+        if not self._odometry.noise.enabled:
+            return 0.0, 0.0, 0.0
+        return compose(self.pose(name), invert(self.odometry(name).pose))
+
+    def due_sensors(self, wanted=None) -> list[tuple[str, object]]:
+        """
+        Return (robot name, sensor spec) for each sensor due at this step of a robot wanted.
+
+        wanted(name) says whether a robot's sensors are of interest (all are by default). Each
+        sensor is due once per period of sim time, read or not; sensors of one period and
+        phase share a schedule, so a step costs a check per group, not per sensor.
+        """
+        if self._sensor_groups is None:
+            self._sensor_groups = sensor_groups(self._entities, self.time_ns - self.dt_ns)
+        due = []
+        for schedule, members in self._sensor_groups:
+            if schedule.due(self.time_ns):
+                due += [(name, spec) for name, specs in members
+                        if wanted is None or wanted(name) for spec in specs]
+        return due
+
+    def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
+        """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
+        return read_sensors(self._terrain.finder, self.world.poses, self.world.radii,
+                            [(self._index(name), spec) for name, spec in jobs], self._noise)
+
+    def _index(self, name: str) -> int:
+        try:
+            return self._indices[name]
+        except KeyError:
+            raise RequestError(f'no entity named {name!r}') from None
