@@ -23,6 +23,9 @@ MAX_LIST_BYTES = 1 << 20
 # Every format of the package nests less than ten levels deep.
 MAX_NESTING = 32
 MAX_ELEMENTS = 200_000
+# A folder searched for YAML files (worlds, spawnables): its entries looked at, files taken.
+MAX_FOLDER_ENTRIES = 10_000
+MAX_FOLDER_FILES = 1_000
 
 _FLOAT_WITHOUT_DOT = re.compile(r'^[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+$')
 
@@ -79,6 +82,29 @@ def is_regular_file(path) -> bool:
         return stat.S_ISREG(os.stat(path).st_mode)
     except (OSError, ValueError):
         return False
+
+
+def yaml_files(folder) -> tuple[list, str]:
+    """
+    Return the regular YAML files of a folder, sorted, and a note of what was left out.
+
+    FIFOs, devices and folders named *.yaml are skipped without being opened; a folder
+    larger than MAX_FOLDER_ENTRIES or MAX_FOLDER_FILES is read that far.
+    """
+    found, seen = [], 0
+    try:
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                seen += 1
+                if seen > MAX_FOLDER_ENTRIES or len(found) >= MAX_FOLDER_FILES:
+                    note = (f'{folder}: only its first {MAX_FOLDER_ENTRIES:,} entries were '
+                            f'looked at, taking at most {MAX_FOLDER_FILES:,} files')
+                    return sorted(found), note
+                if entry.name.endswith(('.yaml', '.yml')) and entry.is_file():
+                    found.append(entry.path)
+    except OSError as error:
+        return [], f'{folder}: cannot read it: {error.strerror}'
+    return sorted(found), ''
 
 
 def read_text(path, what, error_type, max_bytes=MAX_TEXT_BYTES):

@@ -136,6 +136,10 @@ class Answers:
         self._awaited.discard(name)
         return True
 
+    def keep_only(self, names) -> None:
+        """Stop waiting for robots not among names (they are gone)."""
+        self._awaited &= set(names)
+
     @property
     def awaiting(self) -> bool:
         """Whether some robot has not answered yet."""

@@ -2,12 +2,42 @@
 Whether a circular footprint overlaps a region: a sphere, an axis-aligned box or a convex hull.
 
 The world is planar, so regions are taken in x and y: a sphere is its circle, a box its
-rectangle, a hull the convex polygon of its points.
+rectangle, a hull the convex polygon of its points. A region from a request is checked once
+(finite numbers, a bounded count of points) and its hull computed once, however many entities
+it is then tried against.
 """
 
 import math
+from typing import Callable
 
 import numpy as np
+
+MAX_HULL_POINTS = 1000
+
+
+def region_test(kind: str, points: list) -> Callable[[tuple, float], bool]:
+    """
+    Return overlaps(centre, radius) for a region, or raise ValueError saying what is wrong.
+
+    kind is 'sphere' (points: its centre, then (radius, _, _)), 'box' (two opposite corners)
+    or 'hull' (at least three points, not all on one line); points are (x, y, z) triples.
+    """
+    if not all(math.isfinite(value) for point in points for value in point):
+        raise ValueError('the bounds hold a value that is not finite')
+    if kind == 'sphere' and len(points) == 2:
+        centre, radius = points[0][:2], points[1][0]
+        if radius < 0.0:
+            raise ValueError(f'a sphere radius must be >= 0, got {radius:g}')
+        return lambda middle, size: overlaps_circle(middle, size, centre, radius)
+    if kind == 'box' and len(points) == 2:
+        return lambda middle, size: overlaps_box(middle, size, points[0], points[1])
+    if kind == 'hull' and len(points) >= 3:
+        if len(points) > MAX_HULL_POINTS:
+            raise ValueError(f'a convex hull of {len(points)} points; at most '
+                             f'{MAX_HULL_POINTS} are taken')
+        hull = convex_hull(points)
+        return lambda middle, size: overlaps_hull(middle, size, hull)
+    raise ValueError(f'bounds of kind {kind} with {len(points)} points define no volume')
 
 
 def overlaps_circle(centre: tuple, radius: float, other_centre: tuple,
@@ -24,15 +54,24 @@ def overlaps_box(centre: tuple, radius: float, corner: tuple, opposite: tuple) -
     return math.dist(nearest, centre[:2]) <= radius
 
 
-def overlaps_hull(centre: tuple, radius: float, points: list) -> bool:
+def convex_hull(points: list) -> list:
     """
-    Whether a circle overlaps the convex hull of points (at least three, not all on a line).
+    Return the corners of the convex hull of points, counter-clockwise, in x and y.
 
-    The circle overlaps when its centre is inside the hull or within radius of an edge.
+    Raises ValueError unless there are three points not all on one line.
     """
     hull = _convex_hull([tuple(point[:2]) for point in points])
     if len(hull) < 3:
         raise ValueError('a convex hull needs three points not all on one line')
+    return hull
+
+
+def overlaps_hull(centre: tuple, radius: float, hull: list) -> bool:
+    """
+    Whether a circle overlaps a convex hull (its corners counter-clockwise: convex_hull()).
+
+    The circle overlaps when its centre is inside the hull or within radius of an edge.
+    """
     x, y = centre[:2]
     inside = True
     for (x1, y1), (x2, y2) in zip(hull, hull[1:] + hull[:1]):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import math
 import os
 
-from simple_robot_control.input_files import read_yaml
+from simple_robot_control.input_files import MAX_LIST_BYTES, read_yaml
 from simple_robot_control.validation import (Bounds, compact, describe, FINITE, is_finite_number,
                                              is_ros_name, ROS_NAME_RULE)
 
@@ -33,6 +33,9 @@ RAYS = Bounds(1, 10000)
 FREQUENCY = Bounds(0.001, 1000.0)
 NOISE_MEAN = Bounds(-1.0, 1.0)
 NOISE_STD = Bounds(0.0, 1.0)
+# A robot's own topics, /<robot>/<name>: a sensor's topic is /<robot>/<frame_id>, so no sensor
+# may take one of these names.
+ROBOT_TOPICS = ('cmd_vel', 'odom', 'ground_truth', 'initialpose')
 
 
 class RobotFileError(ValueError):
@@ -101,8 +104,24 @@ def parse_robot(data: object, source: str = '<robot>') -> 'RobotDescription':
                    for index, item in enumerate(reader.sequence(sensors, 'lasers', 'sensors')))
     sonars = tuple(_sonar(reader, item, f'sensors.sonars[{index}]')
                    for index, item in enumerate(reader.sequence(sensors, 'sonars', 'sensors')))
+    _check_sensor_names(reader, lasers, sonars)
     return RobotDescription(radius, reader.pose(data, 'initial_pose', '', POSITION), lasers,
                             sonars)
+
+
+def _check_sensor_names(reader, lasers, sonars):
+    """Each sensor's frame_id names its topic: none may be the robot's own, none repeated."""
+    seen = {}
+    for kind, specs in (('lasers', lasers), ('sonars', sonars)):
+        for index, spec in enumerate(specs):
+            where = f'sensors.{kind}[{index}].frame_id'
+            if spec.frame_id in ROBOT_TOPICS:
+                reader.fail(where, f'{spec.frame_id!r} names one of the robot topics '
+                            f'({", ".join(ROBOT_TOPICS)}); name the sensor otherwise')
+            if spec.frame_id in seen:
+                reader.fail(where, f'{spec.frame_id!r} is the frame_id of {seen[spec.frame_id]} '
+                            'too: each sensor needs its own (it names its topic and frame)')
+            seen[spec.frame_id] = where.removesuffix('.frame_id')
 
 
 def _laser(reader, item, where):
@@ -218,7 +237,7 @@ def load_robot_list(path: str | os.PathLike,
     description's initial_pose.
     """
     path = os.fspath(path)
-    data = read_yaml(path, 'robot list', RobotFileError)
+    data = read_yaml(path, 'robot list', RobotFileError, MAX_LIST_BYTES)
     reader = _Reader(path)
     robots = reader.sequence(reader.mapping(data, ''), 'robots', '')
     if not robots:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import os
 from urllib.parse import unquote, urlparse
 
-from simple_robot_control.input_files import parse_yaml, read_text
+from simple_robot_control.input_files import parse_yaml, read_yaml
 from simple_robot_control.validation import Bounds, describe, is_finite_number
 from stdr_lite.core.robot_description import parse_robot, RobotDescription, RobotFileError
 
@@ -65,8 +65,7 @@ def load_resource(uri: str, resource_string: str,
         if not os.path.exists(path):
             raise SpawnResourceError('missing_assets', f'{uri}: no such file')
         try:
-            return parse_resource(parse_yaml(read_text(path, 'spawn resource', RobotFileError),
-                                             path, 'spawn resource', RobotFileError), path)
+            return parse_resource(read_yaml(path, 'spawn resource', RobotFileError), path)
         except RobotFileError as error:
             raise SpawnResourceError('parse_error', str(error)) from None
     if resource_string:

@@ -1,8 +1,8 @@
 """
 How the simulation services answer: a standard Result, OK or a code with a reason.
 
-A callback raises Refusal to refuse; answering() turns that into the response's result, so a
-refusal is written once, where it is decided, and a refused call changes nothing.
+A job raises Refusal to refuse (requests.py turns it into the response's result), so a refusal
+is written once, where it is decided, and a refused call changes nothing.
 """
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -22,14 +22,3 @@ class Refusal(Exception):
 
 def result(code=Result.RESULT_OK, message=''):
     return Result(result=code, error_message=message)
-
-
-def answering(callback):
-    """Answer with OK (and any note callback returns), or with the Refusal it raises."""
-    def serve(request, response):
-        try:
-            response.result = result(message=callback(request, response) or '')
-        except Refusal as refusal:
-            response.result = result(refusal.code, str(refusal))
-        return response
-    return serve

@@ -4,13 +4,15 @@ The standard simulation API's control of time and worlds, served under the node'
 GetSimulatorFeatures, Get/SetSimulationState, StepSimulation, the SimulateSteps action,
 ResetSimulation, and worlds as maps: GetAvailableWorlds, LoadWorld, GetCurrentWorld,
 UnloadWorld. Every answer carries a standard result code and, on a refusal, a message saying
-why; a refused call changes nothing.
+why; a refused call changes nothing. Long work keeps the loop going (requests.py): the steps of
+StepSimulation are taken between other callbacks, a map loads in a thread of its own and the
+world switches at once when it is ready, folders are read a file at a time.
 """
 
-import glob
 import os
 
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from simple_robot_control.input_files import is_regular_file, yaml_files
 from simple_robot_control.occupancy_map import (load_map, MapError, MapImageError,
                                                 MapTooLargeError)
 from simple_robot_control.share import bundled_files
@@ -22,10 +24,14 @@ from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetS
                                        SetSimulationState, StepSimulation, UnloadWorld)
 from stdr_lite.core.spawnables import path_of, SPAWN_FORMATS, SpawnResourceError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.answers import answering, Refusal, result, SERVICE_QOS
+from stdr_lite.node.answers import Refusal, result
+from stdr_lite.node.messages import map_message
+from stdr_lite.node.requests import in_thread, WAIT
 
-# StepSimulation takes its steps inside the call, so it is kept short; the action takes more.
+# StepSimulation answers once its steps are taken, so it is kept short; the action takes more,
+# up to a count that still ends (a day of sim time at 1000 Hz is 86.4 million steps).
 MAX_SERVICE_STEPS = 10_000
+MAX_ACTION_STEPS = 1_000_000_000
 FEATURES = SimulatorFeatures
 IMPLEMENTED = [
     FEATURES.SPAWNING, FEATURES.DELETING, FEATURES.ENTITY_TAGS, FEATURES.ENTITY_BOUNDS,
@@ -58,10 +64,8 @@ class SimulationControl:
         self._node = node
         self._world = node.simulation.occupancy_map.source
         self._stepping = False
-        # GetSimulatorFeatures has no result field: it is the one service answered as is.
-        node.create_service(GetSimulatorFeatures, '~/get_simulator_features', self._features,
-                            qos_profile=SERVICE_QOS)
         for kind, name, callback in (
+                (GetSimulatorFeatures, 'get_simulator_features', self._features),
                 (GetSimulationState, 'get_simulation_state', self._get_state),
                 (SetSimulationState, 'set_simulation_state', self._set_state),
                 (StepSimulation, 'step_simulation', self._step),
@@ -70,10 +74,12 @@ class SimulationControl:
                 (LoadWorld, 'load_world', self._load_world),
                 (GetCurrentWorld, 'get_current_world', self._current_world),
                 (UnloadWorld, 'unload_world', self._unload_world)):
-            node.create_service(kind, f'~/{name}', answering(callback), qos_profile=SERVICE_QOS)
-        self._steps_action = ActionServer(node, SimulateSteps, '~/simulate_steps',
-                                          self._simulate_steps, goal_callback=self._accept_goal,
-                                          cancel_callback=lambda _: CancelResponse.ACCEPT)
+            node.requests.serve(kind, name, callback)
+        self._steps_action = ActionServer(
+            node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
+            goal_callback=node.guard(self._accept_goal, 'the simulate_steps goal',
+                                     lambda goal: GoalResponse.REJECT),
+            cancel_callback=lambda _: CancelResponse.ACCEPT)
 
     def destroy(self):
         """Destroy the action server: Node.destroy_node leaves it, and the node, alive."""
@@ -84,10 +90,10 @@ class SimulationControl:
         return self._node.stepper.state
 
     def _features(self, request, response):
+        """Answer the features; the one service with no result field, as it cannot refuse."""
         response.features = SimulatorFeatures(features=IMPLEMENTED,
                                               spawn_formats=list(SPAWN_FORMATS),
                                               custom_info=CUSTOM_INFO)
-        return response
 
     def _get_state(self, request, response):
         response.state.state = self._state
@@ -106,7 +112,7 @@ class SimulationControl:
             stepper.set_state(target)
         elif target == STATE.STATE_STOPPED:
             self._node.simulation.reset()
-            self._node.restarted()
+            self._node.restarted(new_time=True)
             stepper.set_state(target)
         else:
             raise Refusal(response.INCORRECT_TRANSITION,
@@ -120,12 +126,20 @@ class SimulationControl:
         if request.steps > MAX_SERVICE_STEPS:
             raise Refusal(Result.RESULT_OPERATION_FAILED,
                           f'step_simulation takes at most {MAX_SERVICE_STEPS} steps; '
-                          'the simulate_steps action takes any number')
+                          f'the simulate_steps action takes up to {MAX_ACTION_STEPS:,}')
         for _ in range(request.steps):
             self._node.stepper.step_now()
+            yield
 
     def _accept_goal(self, goal):
-        return GoalResponse.REJECT if self._stepping else GoalResponse.ACCEPT
+        steps = goal.steps
+        if self._stepping or steps > MAX_ACTION_STEPS:
+            self._node.get_logger().warn(
+                f'simulate_steps goal of {steps} steps rejected: ' + (
+                    'another goal is running' if self._stepping
+                    else f'at most {MAX_ACTION_STEPS:,} steps'))
+            return GoalResponse.REJECT
+        return GoalResponse.ACCEPT
 
     async def _simulate_steps(self, goal):
         """Take the steps one at a time through the usual loop, so pacing and lockstep hold."""
@@ -165,32 +179,40 @@ class SimulationControl:
             raise Refusal(Result.RESULT_FEATURE_UNSUPPORTED,
                           f'unknown scope bits in {request.scope}; the scopes are '
                           'TIME (1), STATE (2), SPAWNED (4), ALL (255)')
+        new_time = bool(scope & request.SCOPE_TIME)
         try:
-            self._node.simulation.reset(time=bool(scope & request.SCOPE_TIME),
-                                        state=bool(scope & request.SCOPE_STATE),
+            self._node.simulation.reset(time=new_time, state=bool(scope & request.SCOPE_STATE),
                                         spawned=bool(scope & request.SCOPE_SPAWNED))
         except PlacementError as error:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
-        self._node.restarted()
+        self._node.restarted(new_time=new_time)
 
     def _available_worlds(self, request, response):
         if request.filter.tags:
             raise Refusal(Result.RESULT_FEATURE_UNSUPPORTED, 'worlds have no tags here')
         paths = list(bundled_files('maps').values())
-        unreadable = []
+        unreadable, notes = [], []
         for source in request.additional_sources:
             source = path_of(source, {}) if source.startswith('file:') else source
             if os.path.isdir(source):
-                paths += sorted(glob.glob(os.path.join(source, '*.yaml')))
-            elif os.path.isfile(source):
+                found, note = yaml_files(source)
+                paths += found
+                notes += [note] if note else []
+            elif is_regular_file(source):
                 paths.append(source)
             else:
                 unreadable.append(source)
         if unreadable and not request.continue_on_error:
             raise Refusal(Result.RESULT_OPERATION_FAILED,
-                          f'no such source: {", ".join(unreadable)}')
-        response.worlds = [world_resource(path) for path in paths if _is_map(path)]
-        return f'not found: {", ".join(unreadable)}' if unreadable else ''
+                          f'no such file or folder: {", ".join(unreadable)}')
+        response.worlds = []
+        for path in paths:
+            if _is_map(path):
+                response.worlds.append(world_resource(path))
+            yield
+        if unreadable:
+            notes.append(f'not found: {", ".join(unreadable)}')
+        return '; '.join(notes)
 
     def _load_world(self, request, response):
         if not request.uri:
@@ -205,14 +227,21 @@ class SimulationControl:
         if not path.endswith(('.yaml', '.yml')):
             raise Refusal(response.UNSUPPORTED_FORMAT,
                           f'{request.uri}: worlds are map_server YAML files')
-        if not os.path.isfile(path):
+        if not os.path.exists(path):
             raise Refusal(Result.RESULT_NOT_FOUND, f'{request.uri}: no such file')
+        simulation = self._node.simulation
+        # Reading the map and deriving its distance fields takes seconds for a large one: a
+        # thread does it while the current world steps on; the switch itself is immediate.
+        loading = in_thread(_prepare_world, simulation, path, self._node.frames.map_frame)
+        while not loading.done():
+            yield WAIT
         try:
-            self._node.simulation.load_map(load_map(path))
+            terrain, message = loading.result()
+            simulation.load_map(terrain)
         except (MapError, PlacementError) as error:
             raise Refusal(_load_failure_code(response, error), str(error)) from None
         self._world = path
-        self._node.restarted(new_map=True)
+        self._node.restarted(new_time=True, grid=message)
         self._node.stepper.set_state(STATE.STATE_STOPPED)
         response.world = world_resource(path)
 
@@ -229,10 +258,18 @@ class SimulationControl:
         self._node.sync_entities()
 
 
+def _prepare_world(simulation, path, map_frame):
+    """Load a map file and derive what the simulation needs of it, and its /map message."""
+    occupancy_map = load_map(path)
+    return simulation.survey(occupancy_map), map_message(occupancy_map, map_frame)
+
+
 def _is_map(path):
     """Whether a YAML file looks like a map_server map (it names an image)."""
+    if not is_regular_file(path):
+        return False
     try:
-        with open(path, encoding='utf-8-sig') as stream:
+        with open(path, encoding='utf-8-sig', errors='replace') as stream:
             head = stream.read(4096)
     except OSError:
         return False

@@ -5,13 +5,15 @@ SpawnEntity, SpawnEntities, DeleteEntity, GetEntities, GetEntitiesStates, GetEnt
 GetEntityState, SetEntityState, GetEntityBounds and GetSpawnables. Entities are the robots
 (from STDR robot files) and circular obstacles, static or moving; every answer carries a
 standard result code and, on a refusal, a message saying why; a refused call changes nothing.
+A name filter is a regular expression matched with a time limit per name, so no pattern can
+run away; folders of spawnables are read a file at a time (requests.py).
 """
 
-import glob
 import os
-import re
 
 from geometry_msgs.msg import Vector3
+import regex
+from simple_robot_control.input_files import yaml_files
 from simple_robot_control.pose import planar_pose, set_pose
 from simple_robot_control.share import bundled_files, shared_file
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
@@ -21,16 +23,25 @@ from simulation_interfaces.srv import (DeleteEntity, GetEntities, GetEntitiesSta
                                        GetEntityBounds, GetEntityInfo, GetEntityState,
                                        GetSpawnables, SetEntityState, SpawnEntities, SpawnEntity)
 from stdr_lite.core.entities import Category, NamespaceError, RequestError
-from stdr_lite.core.regions import overlaps_box, overlaps_circle, overlaps_hull
+from stdr_lite.core.regions import region_test
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.answers import answering, Refusal, result, SERVICE_QOS
+from stdr_lite.node.answers import Refusal, result
 from stdr_lite.node.messages import set_stamp
+from stdr_lite.node.naming import check_robot_names, NamingProblem
 
 CATEGORIES = {Category.ROBOT: EntityCategory.CATEGORY_ROBOT,
               Category.STATIC_OBSTACLE: EntityCategory.CATEGORY_STATIC_OBJECT,
               Category.MOVING_OBSTACLE: EntityCategory.CATEGORY_DYNAMIC_OBJECT}
+REGIONS = {Bounds.TYPE_SPHERE: 'sphere', Bounds.TYPE_BOX: 'box',
+           Bounds.TYPE_CONVEX_HULL: 'hull'}
+# A name filter: its length, and the wall time it may take on one name (names are at most a
+# few hundred characters: any sane pattern takes microseconds).
+MAX_FILTER_LENGTH = 1000
+MATCH_TIME = 0.002
+# Entities judged between two pauses of a filtering request.
+ENTITIES_PER_SLICE = 64
 RESOURCE_CODES = {'no_resource': SpawnResult.NO_RESOURCE,
                   'unsupported_format': SpawnResult.UNSUPPORTED_FORMAT,
                   'missing_assets': SpawnResult.MISSING_ASSETS,
@@ -54,7 +65,7 @@ class EntityServices:
                 (SetEntityState, 'set_entity_state', self._set_state),
                 (GetEntityBounds, 'get_entity_bounds', self._bounds),
                 (GetSpawnables, 'get_spawnables', self._spawnables)):
-            node.create_service(kind, f'~/{name}', answering(callback), qos_profile=SERVICE_QOS)
+            node.requests.serve(kind, name, callback)
 
     def _spawn_one(self, request, response):
         response.entity_name = self._spawn(request.name, request.allow_renaming, request.uri,
@@ -63,7 +74,7 @@ class EntityServices:
         self._node.sync_entities()
 
     def _spawn_many(self, request, response):
-        """Spawn each request on its own; a failed one fails the call as a whole."""
+        """Spawn each request on its own, one per slice; a failed one fails the call as a whole."""
         response.results = []
         for spawn in request.spawn_requests:
             outcome = SpawnResult(result=result())
@@ -75,7 +86,8 @@ class EntityServices:
             except Refusal as refusal:
                 outcome.result = result(refusal.code, str(refusal))
             response.results.append(outcome)
-        self._node.sync_entities()
+            self._node.sync_entities()
+            yield
         failed = [index for index, outcome in enumerate(response.results)
                   if outcome.result.result != Result.RESULT_OK]
         if failed:
@@ -95,6 +107,7 @@ class EntityServices:
         start = self._pose(pose.header.frame_id, pose.pose, SpawnResult.INVALID_POSE)
         try:
             if is_robot:
+                self._check_names(namespace.strip('/') or name, spec, bool(namespace))
                 self._simulation.add_robot(RobotEntry(name, spec, start), spawned=True,
                                            namespace=namespace)
             elif namespace:
@@ -109,6 +122,16 @@ class EntityServices:
         except RequestError as error:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
         return name
+
+    def _check_names(self, namespace, description, namespace_given):
+        """Refuse a robot whose topics or frames could not exist (see naming.py)."""
+        try:
+            check_robot_names(self._node, self._node.frames, namespace, description)
+        except NamingProblem as problem:
+            code = {'sensor': SpawnResult.RESOURCE_PARSE_ERROR,
+                    'name': SpawnResult.NAMESPACE_INVALID if namespace_given
+                    else SpawnResult.NAME_INVALID}[problem.part]
+            raise Refusal(code, str(problem)) from None
 
     def _spawn_name(self, name, allow_renaming, kind):
         if not name:
@@ -144,51 +167,31 @@ class EntityServices:
         return self._simulation.entity(name)
 
     def _entities(self, request, response):
-        response.entities = self._matching(request.filters)
+        response.entities = yield from self._matching(request.filters)
 
     def _entities_states(self, request, response):
-        response.entities = self._matching(request.filters)
+        response.entities = yield from self._matching(request.filters)
         response.states = [self._state_of(name) for name in response.entities]
 
     def _matching(self, filters):
-        """Return the names of the entities that pass every part of the filters."""
-        try:
-            pattern = re.compile(filters.filter)
-        except re.error as error:
-            raise Refusal(Result.RESULT_OPERATION_FAILED,
-                          f'filter {filters.filter!r} is no regular expression: {error}') from None
+        """Yield between slices; return the names of the entities that pass every filter."""
+        matches_name = _name_filter(filters.filter)
+        overlaps = _region_filter(filters.bounds)
         categories = {category.category for category in filters.categories}
+        wanted = set(filters.tags.tags)
+        every_tag = filters.tags.filter_mode == TagsFilter.FILTER_MODE_ALL
         matching = []
-        for name in self._simulation.names:
+        for count, name in enumerate(self._simulation.names, start=1):
             entity = self._simulation.entity(name)
             tags = set(_tags(entity))
-            wanted = set(filters.tags.tags)
-            if not pattern.search(name) or (categories and CATEGORIES[entity.category]
-                                            not in categories):
-                continue
-            if wanted and not (wanted <= tags if filters.tags.filter_mode
-                               == TagsFilter.FILTER_MODE_ALL else wanted & tags):
-                continue
-            if self._overlaps(filters.bounds, self._simulation.pose(name)[:2], entity.radius):
+            if (matches_name(name)
+                    and not (categories and CATEGORIES[entity.category] not in categories)
+                    and not (wanted and not (wanted <= tags if every_tag else wanted & tags))
+                    and overlaps(self._simulation.pose(name)[:2], entity.radius)):
                 matching.append(name)
+            if count % ENTITIES_PER_SLICE == 0:
+                yield
         return matching
-
-    @staticmethod
-    def _overlaps(bounds, centre, radius):
-        points = [(point.x, point.y, point.z) for point in bounds.points]
-        if bounds.type == Bounds.TYPE_EMPTY:
-            return True
-        if bounds.type == Bounds.TYPE_SPHERE and len(points) == 2:
-            return overlaps_circle(centre, radius, points[0][:2], points[1][0])
-        if bounds.type == Bounds.TYPE_BOX and len(points) == 2:
-            return overlaps_box(centre, radius, points[0], points[1])
-        if bounds.type == Bounds.TYPE_CONVEX_HULL and len(points) >= 3:
-            try:
-                return overlaps_hull(centre, radius, points)
-            except ValueError as error:
-                raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
-        raise Refusal(Result.RESULT_OPERATION_FAILED, f'bounds of type {bounds.type} with '
-                      f'{len(points)} points define no volume')
 
     def _info(self, request, response):
         entity = self._entity(request.entity)
@@ -232,14 +235,56 @@ class EntityServices:
 
     def _spawnables(self, request, response):
         paths = list(bundled_files('robots', 'obstacles').values())
-        unknown = []
+        unknown, notes = [], []
         for source in request.sources:
             if os.path.isdir(source):
-                paths += sorted(glob.glob(os.path.join(source, '*.yaml')))
+                found, note = yaml_files(source)
+                paths += found
+                notes += [note] if note else []
             else:
                 unknown.append(source)
-        response.spawnables = [spawnable for spawnable in map(_spawnable, paths) if spawnable]
-        return f'not folders, not searched: {", ".join(unknown)}' if unknown else ''
+        response.spawnables = []
+        for path in paths:
+            spawnable = _spawnable(path)
+            if spawnable is not None:
+                response.spawnables.append(spawnable)
+            yield
+        if unknown:
+            notes.append(f'not folders, not searched: {", ".join(unknown)}')
+        return '; '.join(notes)
+
+
+def _name_filter(pattern):
+    """Return matches(name) for a name filter, or raise Refusal for one that cannot run."""
+    if len(pattern) > MAX_FILTER_LENGTH:
+        raise Refusal(Result.RESULT_OPERATION_FAILED, f'a filter of {len(pattern)} characters; '
+                      f'at most {MAX_FILTER_LENGTH}')
+    try:
+        compiled = regex.compile(pattern)
+    except regex.error as error:
+        raise Refusal(Result.RESULT_OPERATION_FAILED,
+                      f'filter {compact(pattern)} is no regular expression: {error}') from None
+
+    def matches(name):
+        try:
+            return compiled.search(name, timeout=MATCH_TIME) is not None
+        except TimeoutError:
+            raise Refusal(Result.RESULT_OPERATION_FAILED,
+                          f'filter {compact(pattern)} took over {MATCH_TIME * 1e3:g} ms to match '
+                          f'one name ({compact(name)}): it backtracks without end; simplify '
+                          'it') from None
+    return matches
+
+
+def _region_filter(bounds):
+    """Return overlaps(centre, radius) for the filters' bounds, or raise Refusal."""
+    if bounds.type == Bounds.TYPE_EMPTY:
+        return lambda centre, radius: True
+    points = [(point.x, point.y, point.z) for point in bounds.points]
+    try:
+        return region_test(REGIONS.get(bounds.type, f'type {bounds.type}'), points)
+    except ValueError as error:
+        raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
 
 
 def _tags(entity):

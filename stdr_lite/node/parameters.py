@@ -90,7 +90,11 @@ class Frames:
 
 
 def frames(params):
-    """Return the frame names."""
+    """Return the frame names; a robot's odometry and body frames must differ."""
+    require(params['odom_frame_id'] != params['base_frame_id'],
+            f'odom_frame_id and base_frame_id are both {params["odom_frame_id"]!r}: a robot\'s '
+            'odometry frame and body frame must differ (REP-105: <robot>/odom -> '
+            '<robot>/base_link)')
     return Frames(params['map_frame_id'], params['odom_frame_id'], params['base_frame_id'])
 
 

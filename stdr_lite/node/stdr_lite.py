@@ -8,17 +8,21 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters
-from simple_robot_control.pose import pose_from_message
+from simple_robot_control.pose import planar_pose
+from simple_robot_control.validation import describe
 from stdr_lite.core.commands import CommandOutcome
+from stdr_lite.core.entities import RequestError
 from stdr_lite.core.world import PlacementError
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
 from stdr_lite.node.frames import FramePublisher
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
+from stdr_lite.node.naming import check_robot_names, NamingProblem
 from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS
+from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.stepper import Stepper
 
@@ -47,6 +51,13 @@ class StdrLite(GuardedNode):
         params = declare_parameters(self, PARAMETERS)
         self.frames = frames(params)
         self.simulation, self.default_description = build_simulation(params)
+        for name in self.simulation.robot_names:
+            robot = self.simulation.robot(name)
+            try:
+                check_robot_names(self, self.frames, robot.namespace, robot.description)
+            except NamingProblem as problem:
+                raise ConfigError(f'robot {name}: {problem}') from None
+        self.requests = RequestQueue(self)
         self._stamped = params['cmd_vel_stamped']
         self._frame_publisher = FramePublisher(self, self.frames, self.simulation)
         self._topics = {}
@@ -67,7 +78,7 @@ class StdrLite(GuardedNode):
         EntityServices(self)
         if params['lockstep']:
             self.simulation.odometry_due()
-            self.stepper.start_over()
+            self.stepper.start_over(new_time=True)
         names = self.simulation.names
         robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in self.simulation.pose(name))}'
                             for name in names) if len(names) <= 5 else f'{len(names)} robots')
@@ -93,14 +104,17 @@ class StdrLite(GuardedNode):
                                                  self._on_initial_pose)
         self._frame_publisher.entities_changed()
 
-    def restarted(self, new_map=False):
-        """After a reset or a new world: publish the map, entities and state of the new time."""
-        if new_map:
-            self._map_publisher.publish(map_message(self.simulation.occupancy_map,
-                                                    self.frames.map_frame))
+    def restarted(self, new_time, grid=None):
+        """
+        After a reset or a new world: publish the map (grid, if new), entities and state.
+
+        new_time says whether the clock went back to 0.
+        """
+        if grid is not None:
+            self._map_publisher.publish(grid)
         self.sync_entities()
         self._publish_clock()
-        self.stepper.start_over()
+        self.stepper.start_over(new_time)
 
     def show_state(self):
         """Publish the current state again (same stamp), as after a teleport while paused."""
@@ -116,11 +130,20 @@ class StdrLite(GuardedNode):
         timer = self.create_timer(0.2, quit_now)
 
     def _on_initial_pose(self, name, message):
-        target = pose_from_message(message.pose.pose)
+        try:
+            target = planar_pose(message.pose.pose)
+        except ValueError as error:
+            self.get_logger().warn(f'{name}: initialpose refused: {error}')
+            return
         where = ', '.join(f'{value:g}' for value in target)
+        if message.header.frame_id not in ('', self.frames.map_frame):
+            self.get_logger().warn(f'{name}: move to ({where}) refused: poses are in the '
+                                   f'{self.frames.map_frame} frame, not '
+                                   f'{describe(message.header.frame_id)}')
+            return
         try:
             self.simulation.teleport(name, target)
-        except PlacementError as error:
+        except (PlacementError, RequestError) as error:
             self.get_logger().warn(f'{name}: move to ({where}) refused: {error}')
             return
         self.show_state()
@@ -185,7 +208,8 @@ class StdrLite(GuardedNode):
         super().destroy_node()
 
     def shut_down(self):
-        """Log how long the controller took to answer, when in lockstep."""
+        """Answer the requests still queued, and log how long controllers took to answer."""
+        self.requests.abandon('the simulator is shutting down')
         latencies = self.stepper.answer_latencies
         if self.stepper.lockstep and latencies:
             median, p99 = np.percentile(latencies, (50, 99)) * 1e3

@@ -77,11 +77,21 @@ class Stepper:
         """Take one step at once, whatever the pacing and the answers (StepSimulation)."""
         self._advance()
 
-    def start_over(self):
-        """After a reset: publish the state of the new time, awaiting answers in lockstep."""
+    def start_over(self, new_time):
+        """
+        After a reset or a new world: publish the state there is now.
+
+        In lockstep, a new time (the clock back at 0) awaits every robot's answer to its first
+        odometry. A reset that keeps the clock republishes the current stamp, which controllers
+        answer once only: the robots that still owe an answer are awaited, as before, and
+        those that went with the reset no more.
+        """
         self._publish_state()
         if self.lockstep:
-            self.await_answers()
+            if new_time:
+                self.await_answers()
+            else:
+                self._simulation.answers.keep_only(self._simulation.robot_names)
         self._wake()
 
     def answered(self, name):
