@@ -40,8 +40,6 @@ REGIONS = {Bounds.TYPE_SPHERE: 'sphere', Bounds.TYPE_BOX: 'box',
 # few hundred characters: any sane pattern takes microseconds).
 MAX_FILTER_LENGTH = 1000
 MATCH_TIME = 0.002
-# Entities judged between two pauses of a filtering request.
-ENTITIES_PER_SLICE = 64
 RESOURCE_CODES = {'no_resource': SpawnResult.NO_RESOURCE,
                   'unsupported_format': SpawnResult.UNSUPPORTED_FORMAT,
                   'missing_assets': SpawnResult.MISSING_ASSETS,
@@ -181,7 +179,7 @@ class EntityServices:
         wanted = set(filters.tags.tags)
         every_tag = filters.tags.filter_mode == TagsFilter.FILTER_MODE_ALL
         matching = []
-        for count, name in enumerate(self._simulation.names, start=1):
+        for name in self._simulation.names:
             entity = self._simulation.entity(name)
             tags = set(_tags(entity))
             if (matches_name(name)
@@ -189,8 +187,7 @@ class EntityServices:
                     and not (wanted and not (wanted <= tags if every_tag else wanted & tags))
                     and overlaps(self._simulation.pose(name)[:2], entity.radius)):
                 matching.append(name)
-            if count % ENTITIES_PER_SLICE == 0:
-                yield
+            yield
         return matching
 
     def _info(self, request, response):

@@ -12,9 +12,10 @@ goes out when the job ends. A request whose job is not done holds back the reque
 after it, never the simulation. Any other exception a job raises is a bug: it is logged and
 answered RESULT_OPERATION_FAILED, and the simulator carries on.
 
-rclpy answers a service with what its callback returns; a job that needs longer is answered
-later through the service's own send_response, with the request's header, which the queue
-takes where the executor hands it over.
+rclpy answers a service with what its callback returns, and takes every request waiting on a
+service in one go; so the callback only queues the job, and the answer goes out later through
+the service's own send_response, with the request's header, which the queue takes where the
+executor hands it over.
 """
 
 from collections import deque
@@ -124,9 +125,9 @@ class RequestQueue:
     def serve(self, kind, name, work):
         """Serve the service ~/name of type kind with the job work(request, response)."""
         def take(request, response):
+            # The executor takes every request waiting on a service in one go: a job run here
+            # would run with all of them, before any step. Jobs wait for the pump instead.
             job = _Job(work, request, response, send_now, report)
-            if not self._jobs and job.run(time.monotonic() + SLICE):
-                return job.response
             self._jobs.append(job)
             if self._pump.is_canceled():
                 self._pump.reset()

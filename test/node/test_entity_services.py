@@ -342,6 +342,7 @@ def test_a_moving_obstacle_stops_a_robot_and_shows_in_its_laser(ros_context, exe
         executor.add_node(node)
     call = ServiceCaller(executor, client)
     spawn(call, 'ball', 'moving_obstacle', 6.0, 7.5)
+    scans.clear()
     spin_until(executor, lambda: scans, what='a laser scan')
     ahead = len(scans[-1].ranges) // 2
     assert scans[-1].ranges[ahead] == pytest.approx(6.0 - 0.25 - 2.0 - 0.1, abs=0.03)
