@@ -16,8 +16,8 @@ from simulation_interfaces.msg import (Bounds, EntityFilters, Result, Simulation
 from simulation_interfaces.srv import (GetAvailableWorlds, GetEntities, GetSpawnables,
                                        LoadWorld, SetSimulationState, SpawnEntity,
                                        StepSimulation)
-from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.node.naming import MAX_TOPIC_LENGTH
+from stdr_lite.node.stdr_lite import StdrLite
 
 OK = Result.RESULT_OK
 LASER = ('{{frame_id: {name}, min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, '
@@ -87,8 +87,8 @@ def assert_still_stepping(executor, watch):
     ({'name': 'scout', 'resource_string': '{' + ', '.join(f'k{i}: {i}' for i in range(100000))
       + '}'}, SpawnResult.RESOURCE_PARSE_ERROR, 'too large'),
 ])
-def test_a_spawn_that_cannot_be_is_refused_and_the_simulator_steps_on(world, executor, fields,
-                                                                        code, words):
+def test_a_spawn_that_cannot_be_is_refused_and_the_simulator_steps_on(
+        world, executor, fields, code, words):
     simulator, watch, call = world
     answer = spawn(call, **fields)
     assert (answer.result, words in answer.error_message) == (code, True), answer.error_message
@@ -157,8 +157,8 @@ def test_a_burst_of_the_largest_requests_never_holds_the_clock(world, executor, 
         for k in range(1000)])
     started = time.monotonic()
     futures = [call.client(SpawnEntity, 'spawn_entity').call_async(SpawnEntity.Request(
-        name=f'bot{k}', resource_string=text, initial_pose=pose_stamped(3.0 + k % 15, 4.0 + k // 15)))
-        for k in range(60)]
+        name=f'bot{k}', resource_string=text,
+        initial_pose=pose_stamped(3.0 + k % 15, 4.0 + k // 15))) for k in range(60)]
     futures += [call.client(GetEntities, 'get_entities').call_async(GetEntities.Request(
         filters=EntityFilters(filter='^bot', bounds=hull))) for _ in range(20)]
     futures.append(call.client(LoadWorld, 'load_world').call_async(

@@ -173,7 +173,8 @@ def test_late_subscriber_receives_the_map(ros_context, executor):
     ({'integrator': 'rk4'}, "integrator must be one of euler, arc, got 'rk4'"),
     ({'rate_hz': 'fast'}, 'parameter rate_hz'),
     ({'rate_hz': 5000}, 'rate_hz must be in [1, 1000], got 5000'),
-    ({'rate_hz': 50.0, 'rate_hz_': 1.0}, "unknown parameter 'rate_hz_' for stdr_lite; did you mean rate_hz?"),
+    ({'rate_hz': 50.0, 'rate_hz_': 1.0},
+     "unknown parameter 'rate_hz_' for stdr_lite; did you mean rate_hz?"),
     ({'robots_file': '/no/robots.yaml'}, '/no/robots.yaml: cannot read robot list'),
     ({'robot_description': '/no/robot.yaml'}, '/no/robot.yaml: cannot read robot file'),
     ({'robots_file': 'ROBOTS', 'robot_name': 'solo'}, 'robots_file lists the robots; drop '
