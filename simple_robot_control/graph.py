@@ -16,6 +16,13 @@ POLL_PERIOD = 0.02
 UNNAMED = 'a node not yet named'
 
 
+def endpoint_node(info) -> str:
+    """Return the full name of an endpoint's node, or UNNAMED while discovery is under way."""
+    if info.node_name == '_NODE_NAME_UNKNOWN_':
+        return UNNAMED
+    return f'{info.node_namespace.rstrip("/")}/{info.node_name}'
+
+
 def other_publishers(node, topic, own=1):
     """
     Return the full names of the publishers on topic (resolved) besides node's own.
@@ -25,13 +32,37 @@ def other_publishers(node, topic, own=1):
     whose node is seen before its name (discovery under way) is 'a node not yet named'.
     """
     me = f'{node.get_namespace().rstrip("/")}/{node.get_name()}'
-    names = sorted(UNNAMED if info.node_name == '_NODE_NAME_UNKNOWN_'
-                   else f'{info.node_namespace.rstrip("/")}/{info.node_name}'
-                   for info in node.get_publishers_info_by_topic(topic))
+    names = sorted(map(endpoint_node, node.get_publishers_info_by_topic(topic)))
     for _ in range(own):
         if me in names:
             names.remove(me)
     return names
+
+
+def type_name(message_type) -> str:
+    """Return a message class's ROS type name, such as geometry_msgs/msg/Twist."""
+    return f'{message_type.__module__.split(".")[0]}/msg/{message_type.__name__}'
+
+
+def command_type_problem(node, publisher, parameter):
+    """
+    Say so when the topic's readers take another message type than the publisher sends.
+
+    Endpoints of different types never match, so the commands would reach no one, silently:
+    a reader of another type, and none of ours, is a configuration to fix (parameter names
+    the switch between the two types). None while any reader of our type is matched.
+    """
+    if publisher.get_subscription_count():
+        return None
+    ours = type_name(publisher.msg_type)
+    others = sorted({(info.topic_type, endpoint_node(info))
+                     for info in node.get_subscriptions_info_by_topic(publisher.topic_name)
+                     if info.topic_type != ours})
+    if not others:
+        return None
+    kind, reader = others[0]
+    return (f'{publisher.topic_name} is read as {kind} by {reader}, but this node sends {ours}: '
+            f'both must use one type (the parameter {parameter})')
 
 
 def deliver_before_exit(publisher, alive_since, budget):

@@ -1,5 +1,6 @@
 """Maps in the standard map_server format: a YAML file naming an image and its geometry."""
 
+import array
 from dataclasses import dataclass
 import os
 
@@ -64,13 +65,31 @@ class OccupancyMap:
         return self.width * self.resolution, self.height * self.resolution
 
     @classmethod
-    def from_grid_message(cls, message) -> 'OccupancyMap':
-        """Read a nav_msgs/OccupancyGrid (duck-typed: no ROS import here)."""
+    def from_grid_message(cls, message, source='/map') -> 'OccupancyMap':
+        """
+        Read a nav_msgs/OccupancyGrid (duck-typed: no ROS import here).
+
+        A grid from another node is input like a file: one whose size, resolution or origin
+        makes no map raises MapError saying why.
+        """
         info = message.info
+        width, height = info.width, info.height
+        if not 0 < width * height <= MAX_CELLS:
+            raise MapError(f'{source}: a grid of {width}x{height} cells (at most {MAX_CELLS:,}, '
+                           'none empty)')
+        if len(message.data) != width * height:
+            raise MapError(f'{source}: {width}x{height} cells, but {len(message.data):,} values')
+        problem = RESOLUTION.problem('resolution', info.resolution)
+        if problem is not None:
+            raise MapError(f'{source}: {problem} (metres per cell)')
         origin = info.origin
-        cells = np.asarray(message.data, dtype=np.int8).reshape(info.height, info.width)
-        return cls(cells, info.resolution, (origin.position.x, origin.position.y,
-                                            yaw_from_quaternion(origin.orientation)))
+        corner = (origin.position.x, origin.position.y, yaw_from_quaternion(origin.orientation))
+        if not all(map(is_finite_number, corner)):
+            raise MapError(f'{source}: the origin is not finite')
+        data = message.data
+        cells = (np.frombuffer(data, dtype=np.int8) if isinstance(data, array.array)
+                 else np.asarray(data, dtype=np.int8))
+        return cls(cells.reshape(height, width), float(info.resolution), corner, source)
 
 
 def load_map(yaml_path):

@@ -78,7 +78,9 @@ class PoseController:
     Drives into one waypoint's goal set; call start() for each new waypoint, then command().
 
     is_free(plan), when given, vetoes plans (a footprint crossing a wall); with every plan
-    vetoed the robot stops and plan is None.
+    vetoed the robot stops and plan is None until the pose, the map or the configuration
+    changes: planning again from the same pose would give the same answer, and a search of the
+    whole goal set costs a tenth of a second (the stall timeout ends such a run).
     """
 
     def __init__(self, config=ControllerConfig(), is_free=None):
@@ -92,6 +94,8 @@ class PoseController:
         self.waypoint = self.next_waypoint = self.plan = None
         self.replans = 0
         self._elapsed = 0.0
+        # Where planning last found every plan vetoed; None while not blocked.
+        self._blocked_at = None
         self._direction = 0
 
     def reconfigure(self, config: ControllerConfig) -> None:
@@ -102,7 +106,12 @@ class PoseController:
                                  config.max_angular_speed)
         self._distance_pid.retune(config.distance_kp, config.distance_ki, config.distance_kd,
                                   config.max_linear_speed)
+        self.plan_again()
+
+    def plan_again(self) -> None:
+        """Drop the plan: the next command plans anew (new limits, or a new map)."""
         self.plan = None
+        self._blocked_at = None
 
     def start(self, pose, waypoint, next_waypoint=None, target=None):
         """
@@ -129,6 +138,7 @@ class PoseController:
             if plan is not None:
                 self.target = plan.pose_at(plan.duration)
         self.plan = plan
+        self._blocked_at = None if plan is not None else pose
 
     def command(self, pose, dt):
         """Return (linear, angular) velocity for the next dt seconds."""
@@ -160,7 +170,8 @@ class PoseController:
 
     def _replan_if_astray(self, pose, dt):
         if self.plan is None:
-            self._plan_from(pose, rechoose=True)
+            if self._blocked_at is None or not _near(pose, self._blocked_at):
+                self._plan_from(pose, rechoose=True)
             return
         reference = self.plan.pose_at(self._elapsed)
         stray = math.hypot(pose[0] - reference[0], pose[1] - reference[1])
@@ -170,6 +181,12 @@ class PoseController:
         if spent or stray > distance_limit or abs(wrap(pose[2] - reference[2])) > angle_limit:
             self.replans += 1
             self._plan_from(pose, rechoose=spent or stray > RECHOOSE_DISTANCE)
+
+
+def _near(pose, other):
+    """Whether two poses are within the distances that call for no new plan."""
+    return (math.hypot(pose[0] - other[0], pose[1] - other[1]) <= REPLAN_DISTANCE
+            and abs(wrap(pose[2] - other[2])) <= REPLAN_ANGLE)
 
 
 @dataclass(frozen=True)
@@ -207,7 +224,7 @@ class CourseFollower:
     def avoid(self, is_free) -> None:
         """Veto plans with is_free(plan) from now on (a new map): the next command re-plans."""
         self._controller.is_free = is_free
-        self._controller.plan = None
+        self._controller.plan_again()
 
     def reconfigure(self, config: ControllerConfig) -> None:
         """Use new limits, tolerances and gains from the next check or command on."""

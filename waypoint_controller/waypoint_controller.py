@@ -12,16 +12,18 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
-from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME, other_publishers
+from simple_robot_control.graph import (command_type_problem, deliver_before_exit,
+                                        DISCOVERY_TIME, other_publishers)
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
-from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.occupancy_map import MapError, OccupancyMap
 from simple_robot_control.parameters import accept_tuning, declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
 from waypoint_controller.clearance import Clearance
+from waypoint_controller.continuity import jump_problem
 from waypoint_controller.control_law import CourseFollower
 from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course, status_qos,
                                         STATUS_TOPIC)
@@ -177,8 +179,15 @@ class WaypointController(GuardedNode):
             'one robot takes commands from one node; stop it or give robot_name'))
 
     def _on_map(self, message):
-        """Keep the robot's plans off the walls of the map from now on."""
-        grid = OccupancyMap.from_grid_message(message)
+        """Keep the robot's plans off the walls of the map from now on, if it is a map."""
+        try:
+            grid = OccupancyMap.from_grid_message(message)
+        except MapError as error:
+            self.get_logger().warn(f'ignoring {error}; planning without regard to walls',
+                                   throttle_duration_sec=10.0)
+            self._map_given_up = True
+            self._release_held()
+            return
         self._follower.avoid(Clearance(grid, self._robot_radius).is_free)
         self.get_logger().info(f'planning around the walls of /map ({grid.width} x '
                                f'{grid.height} cells of {grid.resolution:g} m)')
@@ -206,12 +215,26 @@ class WaypointController(GuardedNode):
             self._held = message
             return
         stamp = Time.from_msg(message.header.stamp).nanoseconds
+        pose = pose_from_message(message.pose.pose)
+        if not all(map(math.isfinite, pose)):
+            self.get_logger().warn(f'ignoring odometry on {self._odom_topic} whose pose is not '
+                                   'finite', throttle_duration_sec=5.0)
+            return
         if self._stamp is not None and stamp < self._stamp:
-            self._time_went_back(stamp, pose_from_message(message.pose.pose))
+            self._world_changed(pose, f'odometry time went back from {self._stamp * 1e-9:.3f} s '
+                                f'to {stamp * 1e-9:.3f} s: the simulator restarted')
             return
         if stamp != self._stamp:
+            if self._pose is not None:
+                limits = self._follower.config
+                jump = jump_problem(self._pose, pose, (stamp - self._stamp) * 1e-9,
+                                    limits.max_linear_speed, limits.max_angular_speed)
+                if jump is not None:
+                    self._world_changed(pose, f'the robot {jump}: it was moved (a teleport, or '
+                                        'a reset of the simulation)')
+                    return
             self._stamp = stamp
-            self._control_step(pose_from_message(message.pose.pose), stamp)
+            self._control_step(pose, stamp)
         if self._answered != stamp and self._commands.publisher.get_subscription_count() > 0:
             self._commands.publish(*self._command)
             self._answered = stamp
@@ -249,23 +272,45 @@ class WaypointController(GuardedNode):
             step = self._follower.update(pose, elapsed * 1e-9)
             self._command = (step.linear, step.angular)
 
-    def _time_went_back(self, stamp, pose):
-        """Stop at once after a simulator restart, rather than act on a world that is gone."""
-        self.get_logger().error(
-            f'odometry time on {self._odom_topic} went back from {self._stamp * 1e-9:.3f} s to '
-            f'{stamp * 1e-9:.3f} s: the simulator restarted; stopping the robot')
+    def _world_changed(self, pose, what):
+        """
+        Stop at once when the world changed under the run, rather than act on one that is gone.
+
+        A restarted simulator, a teleport or a reset make the run no longer one run: it ends
+        ABORTED with exit code 1, and the user starts it again.
+        """
+        self.get_logger().error(f'{self._odom_topic}: {what}; stopping the robot: this run is '
+                                'over (start the controller again for a new one)')
         self._report(aborted(self._follower.next_index + 1, pose))
         self._stop(EXIT_FAILED)
         self._commands.publish(*self._command)
+
+    def _robot_gone(self):
+        """Stop when the odometry has lost its publisher: the robot was deleted, or the world."""
+        self.get_logger().error(
+            f'no odometry on {self._odom_topic} for {ODOMETRY_SILENCE:g} s and it has no '
+            'publisher any more: the robot was deleted or the simulator stopped; this run is '
+            'over')
+        self._report(aborted(self._follower.next_index + 1, self._pose))
+        self._stop(EXIT_FAILED)
 
     def _watch_odometry(self):
         self._release_held()
         if self._discovery is None and time.monotonic() - self._started_at < NEWCOMER_FOR:
             self._check_alone()
+        if self._discovery is None and not self.finished.done():
+            mismatch = command_type_problem(self, self._commands.publisher, 'cmd_vel_stamped')
+            if mismatch is not None:
+                self._command = STOP
+                self.finished.set_exception(ConfigError(mismatch))
         silence = time.monotonic() - self._odometry_at
-        if not self.finished.done() and silence >= ODOMETRY_SILENCE:
-            self.get_logger().warn(f'no odometry on {self._odom_topic} for {silence:.0f} s: is '
-                                   'stdr_lite running?', throttle_duration_sec=5.0)
+        if self.finished.done() or silence < ODOMETRY_SILENCE:
+            return
+        if self._pose is not None and self.count_publishers(self._odom_topic) == 0:
+            self._robot_gone()
+            return
+        self.get_logger().warn(f'no odometry on {self._odom_topic} for {silence:.0f} s: is '
+                               'stdr_lite running?', throttle_duration_sec=5.0)
 
     def _report(self, text):
         self.get_logger().info(text)

@@ -3,7 +3,7 @@
 import time
 
 from rclpy.clock import Clock, ClockType
-from simple_robot_control.graph import other_publishers
+from simple_robot_control.graph import endpoint_node
 
 CHECK_PERIOD = 1.0
 # A free-running simulator achieving less than this share of its real_time_factor is behind.
@@ -53,9 +53,19 @@ class HealthWatch:
         chosen = (names[start:] + names[:start])[:TOPICS_PER_CHECK]
         self._next_topic = start + len(chosen)
         for name in chosen:
-            topic = self._topics[name].cmd_vel_topic
-            publishers = other_publishers(self._node, topic, own=0)
+            topics = self._topics[name]
+            infos = self._node.get_publishers_info_by_topic(topics.cmd_vel_topic)
+            publishers = sorted(map(endpoint_node, infos))
             if len(publishers) > 1:
                 self._node.get_logger().warn(
-                    f'{topic} has {len(publishers)} publishers ({", ".join(publishers)}): their '
-                    'commands mix; stop all but one', throttle_duration_sec=WARN_EVERY)
+                    f'{topics.cmd_vel_topic} has {len(publishers)} publishers '
+                    f'({", ".join(publishers)}): their commands mix; stop all but one',
+                    throttle_duration_sec=WARN_EVERY)
+            unread = sorted({(info.topic_type, endpoint_node(info)) for info in infos
+                             if info.topic_type != topics.command_type})
+            if unread:
+                self._node.get_logger().warn(
+                    f'{topics.cmd_vel_topic} has a publisher of {unread[0][0]} ({unread[0][1]}),'
+                    f' but this simulator reads {topics.command_type} there: its commands reach '
+                    'no robot (the parameter cmd_vel_stamped chooses the type)',
+                    throttle_duration_sec=WARN_EVERY)

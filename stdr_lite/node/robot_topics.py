@@ -3,6 +3,7 @@
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.event_handler import PublisherEventCallbacks
+from simple_robot_control.graph import type_name
 from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
 
 GROUND_TRUTH = 'ground_truth'
@@ -48,6 +49,7 @@ class RobotTopics:
             PoseWithCovarianceStamped, f'{prefix}/initialpose',
             lambda message: on_initial_pose(name, message), 10)]
         self.cmd_vel_topic = command.topic_name
+        self.command_type = type_name(TwistStamped if stamped else Twist)
         self._sensors = {}
         for sensor in robot.sensors:
             frame_id = sensor.spec.frame_id

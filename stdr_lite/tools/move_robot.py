@@ -10,8 +10,9 @@ from rclpy.duration import Duration
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
+from simple_robot_control.graph import command_type_problem
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
@@ -39,6 +40,10 @@ class SimulatorSilent(Exception):
     """No odometry arrived within odom_timeout."""
 
 
+class CommandsUnread(Exception):
+    """The simulator reads cmd_vel as another message type than this node sends."""
+
+
 class MoveRobot(GuardedNode):
     """Runs the lab dialogue in a worker thread while the executor delivers odometry."""
 
@@ -50,6 +55,7 @@ class MoveRobot(GuardedNode):
         self._write = write or _write_stdout
         self.finished = Future()
         self._exit_code = EXIT_OK
+        self._problem = None
         self._odometry = None
         self._odometry_arrived = threading.Condition()
         self._commands = VelocityPublisher(self, f'{params["robot_name"]}/cmd_vel',
@@ -70,7 +76,10 @@ class MoveRobot(GuardedNode):
 
     def _finish_when_session_over(self):
         if self._session_over.is_set() and not self.finished.done():
-            self.finished.set_result(self._exit_code)
+            if self._problem is not None:
+                self.finished.set_exception(ConfigError(self._problem))
+            else:
+                self.finished.set_result(self._exit_code)
 
     def _next_odometry(self, newer_than=None):
         """Wait for odometry stamped later than newer_than (or any, if None)."""
@@ -97,6 +106,11 @@ class MoveRobot(GuardedNode):
             self.get_logger().error(f'no odometry on {self._odom_topic} for '
                                     f'{self._odom_timeout:g} s: is stdr_lite running?')
             self._exit_code = EXIT_FAILED
+        except CommandsUnread as problem:
+            self._problem = str(problem)
+        except Exception as error:  # noqa: B902  the session's last resort
+            self.report_internal_error('the session', error)
+            self._exit_code = EXIT_FAILED
         finally:
             self._session_over.set()
 
@@ -104,6 +118,9 @@ class MoveRobot(GuardedNode):
         """Wait until the simulator subscribes to our commands, so none is lost to discovery."""
         deadline = time.monotonic() + self._odom_timeout
         while self._commands.publisher.get_subscription_count() == 0:
+            problem = command_type_problem(self, self._commands.publisher, 'cmd_vel_stamped')
+            if problem is not None:
+                raise CommandsUnread(problem)
             if time.monotonic() > deadline:
                 raise SimulatorSilent()
             time.sleep(0.01)

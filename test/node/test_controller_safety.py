@@ -128,7 +128,7 @@ def test_bad_values_are_named_in_the_users_units(ros_context, name, value, messa
 
 def test_an_abort_names_a_far_waypoint_compactly(ros_context, executor, tmp_path, capfd):
     course = tmp_path / 'course.txt'
-    course.write_text('1e300 2 0\n')
+    course.write_text('1e6 2 0\n')
     simulator = StdrLite(context=ros_context,
                          parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
     controller = WaypointController(str(course), context=ros_context,
@@ -137,4 +137,62 @@ def test_an_abort_names_a_far_waypoint_compactly(ros_context, executor, tmp_path
         executor.add_node(node)
     executor.spin_until_future_complete(controller.finished, timeout_sec=60.0)
     assert controller.finished.result() == 1
-    assert 'unreachable: no progress for 1 s, still 1e+300 m away' in capfd.readouterr().err
+    assert 'unreachable: no progress for 1 s, still 1e+06 m away' in capfd.readouterr().err
+
+
+@pytest.mark.parametrize('width, height, values, resolution', [
+    (100000, 100000, 0, 0.05), (60, 40, 100, 0.05), (60, 40, 2400, 0.0),
+    (60, 40, 2400, float('nan'))])
+def test_a_malformed_map_is_ignored_and_the_run_goes_on(ros_context, executor, tmp_path, capfd,
+                                                        width, height, values, resolution):
+    course = tmp_path / 'course.txt'
+    course.write_text('3 2 0\n')
+    simulator = FakeSimulator(ros_context)
+    map_publisher = simulator.create_publisher(OccupancyGrid, '/map', EVERYTHING)
+    grid = OccupancyGrid()
+    grid.info.resolution, grid.info.width, grid.info.height = resolution, width, height
+    grid.data = [0] * values
+    map_publisher.publish(grid)
+    controller = WaypointController(str(course), context=ros_context)
+    executor.add_node(simulator)
+    executor.add_node(controller)
+    wait_for_subscribers(executor, map_publisher)
+    driving = simulator.send(executor, 1.0)
+    assert driving.linear.x > 0.0
+    assert not controller.finished.done()
+    assert 'ignoring /map: ' in capfd.readouterr().err
+
+
+def lockstep_run(ros_context, executor, tmp_path, **simulator_parameters):
+    course = tmp_path / 'course.txt'
+    course.write_text('8 2 0\n')
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
+        lockstep=True, real_time_factor=0.0, **simulator_parameters))
+    controller = WaypointController(str(course), context=ros_context)
+    for node in (simulator, controller):
+        executor.add_node(node)
+    spin_until(executor, lambda: simulator.simulation.pose('robot0')[0] > 2.0, timeout=30.0,
+               what='the robot under way')
+    return simulator, controller
+
+
+def test_a_reset_of_the_robot_under_a_lockstep_run_ends_it_in_a_clear_line(
+        ros_context, executor, tmp_path, capfd):
+    """The reset keeps the clock: lockstep steps on into it, and the controller sees the jump."""
+    simulator, controller = lockstep_run(ros_context, executor, tmp_path)
+    steps = simulator.simulation.step_count
+    simulator.simulation.reset(time=False, state=True, spawned=True)
+    simulator.restarted(new_time=False)
+    executor.spin_until_future_complete(controller.finished, timeout_sec=10.0)
+    assert controller.finished.result() == 1
+    assert simulator.simulation.step_count > steps
+    assert 'it was moved (a teleport, or a reset of the simulation)' in capfd.readouterr().err
+
+
+def test_a_deleted_robot_ends_its_run(ros_context, executor, tmp_path, capfd):
+    simulator, controller = lockstep_run(ros_context, executor, tmp_path)
+    simulator.simulation.remove('robot0')
+    simulator.sync_entities()
+    executor.spin_until_future_complete(controller.finished, timeout_sec=15.0)
+    assert controller.finished.result() == 1
+    assert 'it has no publisher any more: the robot was deleted' in capfd.readouterr().err

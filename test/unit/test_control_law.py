@@ -4,6 +4,7 @@ import math
 
 import pytest
 from stdr_lite.core.kinematics import arc_step
+from waypoint_controller import control_law
 from waypoint_controller.control_law import (ControllerConfig, CourseFollower, in_goal_set,
                                              PoseController, wrap)
 from waypoint_controller.waypoints import Waypoint
@@ -147,3 +148,23 @@ def test_a_push_off_the_plan_is_recovered_by_planning_again():
         assert elapsed < 30.0
     assert follower.controller.replans >= 1
     assert in_goal_set(pose, Waypoint(3.0, 0.0, 0.0), CONFIG)
+
+
+def test_a_goal_every_plan_to_which_is_vetoed_is_not_searched_again_in_place(monkeypatch):
+    """Searching the goal set again from the same pose gives the same answer: it is skipped."""
+    searches = []
+
+    def counted(*args, **kwargs):
+        searches.append(args[0])
+        return None
+    monkeypatch.setattr(control_law, 'plan_to_goal_set', counted)
+    follower = CourseFollower([Waypoint(1e6, 2.0, 0.0)], CONFIG, is_free=lambda plan: False)
+    for _ in range(50):
+        step = follower.update((1.0, 2.0, 0.0), 0.05)
+        assert (step.linear, step.angular) == (0.0, 0.0)
+    assert len(searches) == 1
+    follower.update((1.5, 2.0, 0.0), 0.05)
+    assert len(searches) == 2
+    follower.avoid(lambda plan: False)
+    follower.update((1.5, 2.0, 0.0), 0.05)
+    assert len(searches) == 3

@@ -1,9 +1,8 @@
 """Circles against the standard's bounds: sphere, box and convex hull, seen from above."""
 
-import pytest
-
 import math
 
+import pytest
 from stdr_lite.core.regions import (convex_hull, MAX_HULL_POINTS, overlaps_box, overlaps_circle,
                                     overlaps_hull, region_test)
 

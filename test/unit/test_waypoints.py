@@ -5,8 +5,8 @@ import os
 
 from hypothesis import given, strategies as st
 import pytest
-from waypoint_controller.waypoints import load_waypoints, parse_waypoints, Waypoint
-from waypoint_controller.waypoints import WaypointFileError
+from waypoint_controller.waypoints import (load_waypoints, MAX_WAYPOINTS, parse_waypoints,
+                                           Waypoint, WaypointFileError)
 
 
 def test_lab_format_all_on_one_line():
@@ -19,8 +19,8 @@ def test_one_per_line_with_comments_and_blank_lines():
     assert parse_waypoints(text) == [Waypoint(1.5, -2, math.pi), Waypoint(3, 4.25, 0)]
 
 
-@given(st.lists(st.tuples(*[st.floats(-1e6, 1e6, allow_nan=False)] * 3), min_size=1,
-                max_size=20),
+@given(st.lists(st.tuples(st.floats(-1e6, 1e6), st.floats(-1e6, 1e6),
+                          st.floats(-3600.0, 3600.0)), min_size=1, max_size=20),
        st.lists(st.sampled_from([' ', '\t', '\n', '  \n ']), min_size=1))
 def test_any_whitespace_layout_reads_the_same_numbers(triples, separators):
     numbers = [value for triple in triples for value in triple]
@@ -42,6 +42,11 @@ def test_any_whitespace_layout_reads_the_same_numbers(triples, separators):
     ('1 2 3\n4 5\n', 'course.txt:2: 5 numbers is not a whole number'),
     ('', 'course.txt: no waypoints'),
     ('# only a comment\n\n', 'course.txt: no waypoints'),
+    ('1 2 3\n4 5 1e17\n', 'course.txt:2: waypoint 2: theta (degrees) must be in [-3600, 3600], '
+     'got 1e+17'),
+    ('1e7 2 3\n', 'course.txt:1: waypoint 1: x must be in [-1000000, 1000000]'),
+    ('1 2 3\n' * (MAX_WAYPOINTS + 1), f'course.txt:{MAX_WAYPOINTS + 1}: more than 10,000 '
+     'waypoints'),
 ])
 def test_bad_files_name_file_line_and_token(tmp_path, text, expected):
     path = tmp_path / 'course.txt'
