@@ -17,9 +17,11 @@ from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.input_files import output_problem
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
+from simple_robot_control.validation import describe
 from std_msgs.msg import String
 from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
 from waypoint_controller.run_record import RunRecordWriter, StatusClock
@@ -57,13 +59,18 @@ class CourseMonitor(GuardedNode):
         self._wall_started = None
         self._progress_shown = False
         self._record = None
-        if params['record_file']:
+        record_file = params['record_file']
+        if record_file:
+            problem = output_problem(record_file, inputs=[path])
+            if problem is not None:
+                raise ConfigError(f'record_file {record_file}: {problem}')
             try:
                 self._record = RunRecordWriter(
-                    params['record_file'], os.path.basename(path), waypoints,
-                    params['distance_tolerance'], math.radians(params['angle_tolerance_deg']))
+                    record_file, os.path.basename(path), waypoints,
+                    params['distance_tolerance'], math.radians(params['angle_tolerance_deg']),
+                    complain=self.get_logger().error)
             except OSError as error:
-                raise ConfigError(f'{params["record_file"]}: cannot write the run record: '
+                raise ConfigError(f'{record_file}: cannot write the run record: '
                                   f'{error.strerror}') from None
         self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
         self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,
@@ -74,6 +81,10 @@ class CourseMonitor(GuardedNode):
     def _on_odometry(self, message):
         stamp = Time.from_msg(message.header.stamp).nanoseconds * 1e-9
         pose = pose_from_message(message.pose.pose)
+        if not all(map(math.isfinite, pose)):
+            self.get_logger().warn('ignoring odometry whose pose is not finite',
+                                   throttle_duration_sec=5.0)
+            return
         if self._clock.odometry(stamp, pose) and self._record is not None:
             self._record.pose(stamp, pose)
 
@@ -82,7 +93,13 @@ class CourseMonitor(GuardedNode):
             return
         text = message.data
         status = parse_status(text)
-        kind = status.kind if status is not None else None
+        if status is None or (status.number is not None
+                              and not status.number <= self._total):
+            # Some other node spoke on robot_status: say so, and keep it out of the record.
+            self._clear_progress()
+            self._write(f'(not a status of this course: {describe(text)})\n')
+            return
+        kind = status.kind
         date = self._clock.date(text)
         if kind == STARTED:
             self._wall_started = time.monotonic()

@@ -11,13 +11,15 @@ import os
 import sys
 
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import LineCollection
+from matplotlib.collections import EllipseCollection, LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.transforms import Affine2D
 import numpy as np
+from simple_robot_control.input_files import output_problem
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, shared_file
+from simple_robot_control.validation import Bounds, compact
 from waypoint_controller.run_record import load_run, RunRecordError
 from waypoint_controller.status import STARTED, WAYPOINT
 
@@ -25,6 +27,9 @@ FIGURE_SIZE = (10.0, 7.5)
 DPI = 100
 HEADING_ARROW = 0.5
 ZOOM_MARGIN = 1.0
+RADIUS = Bounds(0.0, 10.0, low_open=True)
+# Beyond this many waypoints their numbers would cover the picture: only circles and arrows.
+MAX_NUMBERED_WAYPOINTS = 100
 
 
 def render_run(record, occupancy_map, robot_radius, output_path):
@@ -45,7 +50,7 @@ def render_run(record, occupancy_map, robot_radius, output_path):
     result = record.result or 'UNFINISHED'
     axes.set_title(f'{record.course}: {result} after {record.duration:.1f} s sim time, '
                    f'{len(record.waypoints)} waypoints')
-    figure.savefig(output_path, dpi=DPI)
+    figure.savefig(output_path, dpi=DPI, format='png')
 
 
 def _draw_map(axes, occupancy_map):
@@ -86,16 +91,24 @@ def _draw_path(figure, axes, record):
 
 
 def _draw_waypoints(axes, record):
-    for number, waypoint in enumerate(record.waypoints, start=1):
-        axes.add_patch(Circle((waypoint.x, waypoint.y), record.distance_tolerance,
-                              fill=False, edgecolor='tab:orange', linewidth=1.5, zorder=4,
-                              label='waypoint: goal circle, heading' if number == 1 else None))
-        axes.annotate('', xytext=(waypoint.x, waypoint.y), zorder=4,
-                      xy=(waypoint.x + HEADING_ARROW * math.cos(waypoint.theta),
-                          waypoint.y + HEADING_ARROW * math.sin(waypoint.theta)),
-                      arrowprops={'arrowstyle': '->', 'color': 'tab:orange', 'linewidth': 1.5})
-        axes.annotate(str(number), (waypoint.x, waypoint.y), textcoords='offset points',
-                      xytext=(6, -12), color='tab:orange', fontweight='bold', zorder=4)
+    """Each goal circle and heading arrow, in one collection each; numbers on short courses."""
+    if not record.waypoints:
+        return
+    x, y, theta = np.asarray([(w.x, w.y, w.theta) for w in record.waypoints]).T
+    diameter = 2.0 * record.distance_tolerance
+    axes.add_collection(EllipseCollection(
+        np.full(x.size, diameter), np.full(x.size, diameter), np.zeros(x.size), units='xy',
+        offsets=np.column_stack([x, y]), offset_transform=axes.transData, facecolors='none',
+        edgecolors='tab:orange', linewidths=1.5, zorder=4))
+    axes.plot([], [], 'o', markerfacecolor='none', markeredgecolor='tab:orange',
+              markeredgewidth=1.5, label='waypoint: goal circle, heading')
+    axes.quiver(x, y, HEADING_ARROW * np.cos(theta), HEADING_ARROW * np.sin(theta),
+                angles='xy', scale_units='xy', scale=1.0, color='tab:orange', width=0.003,
+                zorder=4)
+    if len(record.waypoints) <= MAX_NUMBERED_WAYPOINTS:
+        for number, waypoint in enumerate(record.waypoints, start=1):
+            axes.annotate(str(number), (waypoint.x, waypoint.y), textcoords='offset points',
+                          xytext=(6, -12), color='tab:orange', fontweight='bold', zorder=4)
 
 
 def _draw_reports(axes, record):
@@ -126,9 +139,10 @@ def _draw_footprints(axes, record, robot_radius):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
-        prog='plot_run', description='Draw a run recorded by course_monitor --record as a PNG: '
-        'the map, the path coloured by time, each waypoint with its goal circle and heading, '
-        'the poses reported on robot_status, and the footprint at start and end.')
+        prog='plot_run', description='Draw a run recorded by course_monitor (its record_file '
+        'parameter) as a PNG: the map, the path coloured by time, each waypoint with its goal '
+        'circle and heading, the poses reported on robot_status, and the footprint at start '
+        'and end.')
     parser.add_argument('record', help='run record (JSON lines)')
     parser.add_argument('--map', default=shared_file(*BUNDLED_MAP),
                         help='map_server YAML of the world (default: the bundled lab_room)')
@@ -138,8 +152,12 @@ def main(argv=None):
     args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.record)[0] + '.png'
     try:
-        if not (math.isfinite(args.robot_radius) and args.robot_radius > 0.0):
-            raise ValueError(f'--robot-radius must be a positive number, got {args.robot_radius}')
+        if not RADIUS.contains(args.robot_radius):
+            raise ValueError(f'--robot-radius must be {RADIUS.text()}, got '
+                             f'{compact(args.robot_radius)}')
+        problem = output_problem(output, inputs=[args.record, args.map])
+        if problem is not None:
+            raise ValueError(f'--output {output}: {problem}')
         record = load_run(args.record)
         render_run(record, load_map(args.map), args.robot_radius, output)
     except (RunRecordError, MapError, ValueError, OSError) as error:
@@ -148,6 +166,11 @@ def main(argv=None):
     if record.cut_short_line is not None:
         print(f'plot_run: {args.record}:{record.cut_short_line}: the last line was cut short '
               '(an interrupted run); drew the run up to the line before it', file=sys.stderr)
+    if record.skipped_lines:
+        lines = ', '.join(map(str, record.skipped_lines[:5]))
+        more = ', ...' if len(record.skipped_lines) > 5 else ''
+        print(f'plot_run: {args.record}: left out {len(record.skipped_lines)} status lines that '
+              f'are no robot_status of the lab (lines {lines}{more})', file=sys.stderr)
     print(f'wrote {output}')
     return 0
 

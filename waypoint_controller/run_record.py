@@ -16,13 +16,16 @@ import os
 from simple_robot_control.input_files import read_text
 from simple_robot_control.validation import describe, is_finite_number
 from waypoint_controller.status import FINISHED, parse_status, STARTED, WAYPOINT
-from waypoint_controller.waypoints import Waypoint
+from waypoint_controller.waypoints import MAX_WAYPOINTS, Waypoint
 
 
 # robot_status prints x and y to 1 mm and theta to 0.01 degree; a pose matches within rounding.
 POSITION_ROUNDING = 0.0006
 HEADING_ROUNDING = math.radians(0.006)
-MAX_RECORD_BYTES = 1 << 30
+# A record holds a pose per odometry stamp: an hour at 50 Hz is about 11 MB.
+MAX_RECORD_BYTES = 64 << 20
+# The header holds the course: its line is the longest, about 60 bytes a waypoint.
+MAX_LINE_CHARACTERS = 60 * MAX_WAYPOINTS + 1000
 RECENT_POSES = 2000
 
 
@@ -90,6 +93,7 @@ class RunRecord:
     poses: list = field(default_factory=list)
     statuses: list = field(default_factory=list)
     cut_short_line: int | None = None
+    skipped_lines: list = field(default_factory=list)
 
     @property
     def result(self):
@@ -112,10 +116,19 @@ class RunRecord:
 
 
 class RunRecordWriter:
-    """Writes a record line by line, so a run cut short still leaves a readable file."""
+    """
+    Writes a record line by line, so a run cut short still leaves a readable file.
 
-    def __init__(self, path, course, waypoints, distance_tolerance, angle_tolerance):
+    A write that fails (a full disk) or a record that would outgrow MAX_RECORD_BYTES ends the
+    recording, not the run: complain(line) is told once, and later writes are dropped. Opening
+    the file raises OSError.
+    """
+
+    def __init__(self, path, course, waypoints, distance_tolerance, angle_tolerance,
+                 complain):
+        self._path, self._complain = path, complain
         self._stream = open(path, 'w', encoding='utf-8')
+        self._written = 0
         self._write({'course': course,
                      'waypoints': [[w.x, w.y, w.theta] for w in waypoints],
                      'distance_tolerance': distance_tolerance,
@@ -128,11 +141,34 @@ class RunRecordWriter:
         self._write({'t': time, 'status': text})
 
     def close(self):
-        self._stream.close()
+        if self._stream is not None:
+            self._end(None)
 
     def _write(self, entry):
-        self._stream.write(json.dumps(entry) + '\n')
-        self._stream.flush()
+        if self._stream is None:
+            return
+        line = json.dumps(entry) + '\n'
+        if self._written + len(line) > MAX_RECORD_BYTES:
+            self._end(f'{self._path}: the record reached {MAX_RECORD_BYTES >> 20} MB; recording '
+                      'stops here, the run goes on')
+            return
+        try:
+            self._stream.write(line)
+            self._stream.flush()
+        except OSError as error:
+            self._end(f'{self._path}: cannot write the record ({error.strerror}); recording '
+                      'stops here, the run goes on')
+            return
+        self._written += len(line)
+
+    def _end(self, problem):
+        stream, self._stream = self._stream, None
+        try:
+            stream.close()
+        except OSError:
+            pass
+        if problem:
+            self._complain(problem)
 
 
 def load_run(path: str | os.PathLike) -> RunRecord:
@@ -140,7 +176,8 @@ def load_run(path: str | os.PathLike) -> RunRecord:
     Read a record written by RunRecordWriter; RunRecordError names what is wrong.
 
     A run that was interrupted may leave its last line half written: that line is left out,
-    and cut_short_line says which it was.
+    and cut_short_line says which it was. A status line whose text is no status (a node other
+    than the controller spoke on robot_status) is left out too, its number in skipped_lines.
     """
     path = os.fspath(path)
     text = read_text(path, 'run record', RunRecordError, MAX_RECORD_BYTES)
@@ -161,6 +198,9 @@ def load_run(path: str | os.PathLike) -> RunRecord:
     except (KeyError, TypeError) as error:
         raise RunRecordError(f'{path}:1: not a run header ({error!r} missing or wrong)') from None
     record.cut_short_line = cut_short
+    if len(record.waypoints) > MAX_WAYPOINTS:
+        raise RunRecordError(f'{path}:1: a course of {len(record.waypoints):,} waypoints (at most '
+                             f'{MAX_WAYPOINTS:,})')
     for number, line in enumerate(lines[1:], start=2):
         if not line.strip():
             continue
@@ -169,26 +209,33 @@ def load_run(path: str | os.PathLike) -> RunRecord:
         if 'pose' in entry:
             record.times.append(time)
             record.poses.append(tuple(_finite(path, number, entry['pose'], 3)))
-        elif isinstance(entry.get('status'), str) and entry['status'].strip():
-            record.statuses.append((time, entry['status']))
-        else:
+        elif not isinstance(entry.get('status'), str):
             raise RunRecordError(f'{path}:{number}: neither a pose nor a status')
+        elif parse_status(entry['status']) is None:
+            record.skipped_lines.append(number)
+        else:
+            record.statuses.append((time, entry['status']))
     return record
 
 
 def _is_json(line):
     try:
         json.loads(line)
-    except json.JSONDecodeError:
+    except (json.JSONDecodeError, RecursionError):
         return False
     return True
 
 
 def _entry(path, number, line):
+    if len(line) > MAX_LINE_CHARACTERS:
+        raise RunRecordError(f'{path}:{number}: a line of {len(line):,} characters (at most '
+                             f'{MAX_LINE_CHARACTERS:,})')
     try:
         entry = json.loads(line)
     except json.JSONDecodeError as error:
         raise RunRecordError(f'{path}:{number}: not JSON ({error.msg})') from None
+    except RecursionError:
+        raise RunRecordError(f'{path}:{number}: JSON nested too deeply') from None
     if not isinstance(entry, dict):
         raise RunRecordError(f'{path}:{number}: not a JSON object')
     return entry

@@ -8,9 +8,15 @@ metres, and theta in degrees (the lab's unit). Poses given to and taken from thi
 
 from dataclasses import dataclass
 import math
+import re
+
+from simple_robot_control.validation import parse_decimal
 
 STARTED, WAYPOINT, FINISHED, ABORTED = 'STARTED', 'WAYPOINT', 'FINISHED', 'ABORTED'
 ENDINGS = (FINISHED, ABORTED)
+# The longest status is well under this: WAYPOINT, a number and a pose of three decimals.
+MAX_STATUS_LENGTH = 200
+_WAYPOINT_NUMBER = re.compile(r'^[1-9][0-9]{0,8}$', re.ASCII)
 
 
 def _pose_text(pose):
@@ -48,7 +54,14 @@ class Status:
 
 
 def parse_status(text: str) -> Status | None:
-    """Read a robot_status text; None if it is not one this module writes."""
+    """
+    Read a robot_status text; None if it is not one this module writes.
+
+    Text from another node is input: its numbers must be plain finite decimals, a waypoint
+    number a whole number from 1, and the whole text no longer than any status can be.
+    """
+    if len(text) > MAX_STATUS_LENGTH:
+        return None
     words = text.split()
     if not words or words[0] not in (STARTED, WAYPOINT, FINISHED, ABORTED):
         return None
@@ -57,11 +70,11 @@ def parse_status(text: str) -> Status | None:
         return Status(kind) if not rest else None
     number = None
     if kind in (WAYPOINT, ABORTED):
-        if not rest or not rest[0].isdigit():
+        if not rest or not _WAYPOINT_NUMBER.match(rest[0]):
             return None
         number, rest = int(rest[0]), rest[1:]
-    try:
-        x, y, degrees = (float(word) for word in rest)
-    except ValueError:
+    values = [parse_decimal(word) for word in rest]
+    if len(values) != 3 or None in values:
         return None
+    x, y, degrees = values
     return Status(kind, number, (x, y, math.radians(degrees)))

@@ -7,7 +7,7 @@ from PIL import Image
 import pytest
 from ros_helpers import overrides
 from simple_robot_control.occupancy_map import load_map
-from simple_robot_control.share import shared_file
+from simple_robot_control.share import BUNDLED_MAP, shared_file
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.course_monitor import CourseMonitor
 from waypoint_controller.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
@@ -85,11 +85,24 @@ def test_plot_run_command_writes_beside_the_record(recorded_run, capsys):
 @pytest.mark.parametrize('args, message', [
     (['missing.jsonl'], 'missing.jsonl: cannot read run record'),
     (['RECORD', '--map', '/no/map.yaml'], '/no/map.yaml: cannot read map file'),
-    (['RECORD', '--robot-radius', '-1'], '--robot-radius must be a positive number'),
+    (['RECORD', '--robot-radius', '-1'], '--robot-radius must be in (0, 10], got -1'),
+    (['RECORD', '--output', 'FOLDER'], 'is a folder, not a file'),
+    (['RECORD', '--output', 'RECORD'], 'an input of this run: refusing to overwrite it'),
+    (['RECORD', '--output', 'MAP'], 'an input of this run: refusing to overwrite it'),
 ])
 def test_plot_run_refuses_bad_input_in_one_line(recorded_run, capsys, args, message):
     _, record_path, _ = recorded_run
-    args = [str(record_path) if arg == 'RECORD' else arg for arg in args]
+    names = {'RECORD': str(record_path), 'FOLDER': str(record_path.parent),
+             'MAP': shared_file(*BUNDLED_MAP)}
+    args = [names.get(arg, arg) for arg in args]
     assert plot_run(args) == 2
     error = capsys.readouterr().err
     assert message in error and len(error.strip().splitlines()) == 1
+
+
+def test_plot_run_writes_the_png_exactly_where_it_is_told(recorded_run):
+    _, record_path, _ = recorded_run
+    output = record_path.parent / 'picture'
+    assert plot_run([str(record_path), '--output', str(output)]) == 0
+    assert output.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+    assert not output.with_suffix('.png').exists()

@@ -4,8 +4,9 @@ import json
 import math
 
 import pytest
-from waypoint_controller.run_record import load_run, RunRecordError, RunRecordWriter, StatusClock
-from waypoint_controller.waypoints import Waypoint
+from waypoint_controller.run_record import (load_run, MAX_LINE_CHARACTERS, MAX_RECORD_BYTES,
+                                            RunRecordError, RunRecordWriter, StatusClock)
+from waypoint_controller.waypoints import MAX_WAYPOINTS, Waypoint
 
 HEADER = {'course': 'square.txt', 'waypoints': [[1.0, 2.0, 0.5]], 'distance_tolerance': 0.1,
           'angle_tolerance': 0.087}
@@ -14,7 +15,7 @@ HEADER = {'course': 'square.txt', 'waypoints': [[1.0, 2.0, 0.5]], 'distance_tole
 def test_written_record_reads_back(tmp_path):
     path = tmp_path / 'run.jsonl'
     writer = RunRecordWriter(path, 'square.txt', [Waypoint(1.0, 2.0, 0.5), Waypoint(3, 4, -1)],
-                             0.1, math.radians(5.0))
+                             0.1, math.radians(5.0), complain=pytest.fail)
     writer.status(0.0, 'STARTED 0.000 0.000 0.00')
     writer.pose(0.0, (0.0, 0.0, 0.0))
     writer.pose(0.02, (0.01, 0.0, 0.1))
@@ -48,6 +49,12 @@ def test_unfinished_record_has_no_result(tmp_path):
      "run.jsonl:2: expected 1 finite number, got ['soon']"),
     ([json.dumps(HEADER), '', '{"t": 1.0, "speed": 3}'],
      'run.jsonl:3: neither a pose nor a status'),
+    ([json.dumps(HEADER), '{"t": 1.0, "pose": ' + '[' * 5000 + ']' * 5000 + '}'],
+     'run.jsonl:2: JSON nested too deeply'),
+    ([json.dumps(dict(HEADER, waypoints=[[1.0, 2.0, 0.0]] * (MAX_WAYPOINTS + 1)))],
+     'run.jsonl:1: a course of 10,001 waypoints (at most 10,000)'),
+    ([json.dumps(HEADER), '{"t": 1.0, "status": "' + 'x' * (MAX_LINE_CHARACTERS + 1) + '"}'],
+     'run.jsonl:2: a line of'),
 ])
 def test_bad_record_is_one_line_naming_file_and_line(tmp_path, lines, message):
     path = tmp_path / 'run.jsonl'
@@ -112,3 +119,38 @@ def test_a_bad_line_inside_a_record_is_still_an_error(tmp_path):
                     '{"t": 0.0, "pose": [1, 2, 3]}')
     with pytest.raises(RunRecordError, match='run.jsonl:2: not JSON'):
         load_run(path)
+
+
+def test_statuses_that_are_no_statuses_are_left_out_and_counted(tmp_path):
+    path = tmp_path / 'run.jsonl'
+    lines = [json.dumps(HEADER), '{"t": 0.0, "status": "STARTED 1.000 2.000 0.00"}',
+             '{"t": 0.5, "status": "hello from another node"}',
+             '{"t": 0.6, "status": "WAYPOINT -1 1 2 3"}', '{"t": 1.0, "status": "FINISHED"}']
+    path.write_text('\n'.join(lines) + '\n')
+    record = load_run(path)
+    assert [text for _, text in record.statuses] == ['STARTED 1.000 2.000 0.00', 'FINISHED']
+    assert record.skipped_lines == [3, 4]
+
+
+def test_a_write_that_fails_ends_the_recording_not_the_run(tmp_path):
+    complaints = []
+    writer = RunRecordWriter('/dev/full', 'c.txt', [Waypoint(1.0, 2.0, 0.0)], 0.1, 0.1,
+                             complain=complaints.append)
+    writer.pose(0.0, (1.0, 2.0, 0.0))
+    writer.close()
+    assert complaints == ['/dev/full: cannot write the record (No space left on device); '
+                          'recording stops here, the run goes on']
+
+
+def test_a_record_stops_growing_at_its_bound(tmp_path, monkeypatch):
+    monkeypatch.setattr('waypoint_controller.run_record.MAX_RECORD_BYTES', 2000)
+    complaints = []
+    path = tmp_path / 'run.jsonl'
+    writer = RunRecordWriter(path, 'c.txt', [Waypoint(1.0, 2.0, 0.0)], 0.1, 0.1,
+                             complain=complaints.append)
+    for step in range(200):
+        writer.pose(0.02 * step, (1.0, 2.0, 0.0))
+    writer.close()
+    assert len(complaints) == 1 and 'the record reached' in complaints[0]
+    assert path.stat().st_size <= 2000 and load_run(path).poses
+    assert MAX_RECORD_BYTES == 64 << 20

@@ -28,7 +28,10 @@ def test_texts_are_read_back(text, status):
 
 
 @pytest.mark.parametrize('text', ['', 'WAYPOINT 3 x y z', 'WAYPOINT 1.000 2.000 3.00',
-                                  'FINISHED early', 'STOPPED 1 2 3', 'STARTED 1 2'])
+                                  'FINISHED early', 'STOPPED 1 2 3', 'STARTED 1 2',
+                                  'STARTED nan nan nan', 'WAYPOINT -1 1 2 3', 'WAYPOINT 0 1 2 3',
+                                  'WAYPOINT \u0662 1 2 3', 'STARTED 1 2 inf', 'STARTED 1e999 2 3',
+                                  'STARTED 1 2 3 ' + ' ' * 300, 'ABORTED 01 1 2 3'])
 def test_other_texts_are_not_statuses(text):
     assert parse_status(text) is None
 
