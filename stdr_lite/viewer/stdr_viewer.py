@@ -8,6 +8,7 @@ robot_status. Robots are found by looking at the ROS graph once a second.
 
 from collections import deque
 import functools
+import math
 import re
 import sys
 import time
@@ -21,11 +22,11 @@ from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
-from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.occupancy_map import MapError, OccupancyMap
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
-from simple_robot_control.validation import Bounds
+from simple_robot_control.validation import Bounds, describe
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
 from stdr_lite.viewer.pygame_quiet import pygame
@@ -35,6 +36,12 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
 DISCOVERY_PERIOD = 1.0
+# What the view takes from the graph: anything else is left out with a warning, so a bad
+# message from any node can neither crash the viewer nor stop it drawing.
+FAR = 1e6
+RADIUS = Bounds(0.0, 5.0, low_open=True)
+MAX_RAYS = 100_000
+STATUS_SHOWN = 120
 ZOOM_STEP = 1.2
 FRAME_TIMES = 30
 TOPIC_KINDS = {'nav_msgs/msg/Odometry': 'odom', 'sensor_msgs/msg/LaserScan': 'laser',
@@ -60,6 +67,11 @@ DESCRIPTION = ('stdr_viewer: a live view of a stdr_lite (or STDR) world: the map
                'with its name, heading and trail, laser fans in red, sonar cones in green, and '
                'the latest robot_status. Mouse wheel or +/- zooms, dragging pans, f fits the '
                'map, q or closing the window quits.')
+
+
+def sane(*values) -> bool:
+    """Whether every value is a finite number of sane size (within FAR) for the view."""
+    return all(math.isfinite(value) and abs(value) <= FAR for value in values)
 
 
 class StdrViewer(GuardedNode):
@@ -135,9 +147,17 @@ class StdrViewer(GuardedNode):
             Range, topic, functools.partial(self._on_sonar, robot, name), 10)
 
     def _on_map(self, message):
-        grid = OccupancyMap.from_grid_message(message)
+        try:
+            grid = OccupancyMap.from_grid_message(message)
+        except MapError as error:
+            self._ignore(f'{error}')
+            return
         self.scene.set_map(grid.cells, grid.resolution, grid.origin[:2])
         self.view.fit(self.scene.extent())
+
+    def _ignore(self, what):
+        """Say, now and then, that a message from the graph was left out, and why."""
+        self.get_logger().warn(f'ignoring {what}', throttle_duration_sec=5.0)
 
     def _on_static_frames(self, message):
         """
@@ -151,9 +171,13 @@ class StdrViewer(GuardedNode):
             robot, _, frame = transform.child_frame_id.rpartition('/')
             if robot and transform.header.frame_id.startswith(f'{robot}/'):
                 offset = transform.transform
-                mounts.setdefault(robot, {})[frame] = (
-                    offset.translation.x, offset.translation.y,
-                    yaw_from_quaternion(offset.rotation))
+                mount = (offset.translation.x, offset.translation.y,
+                         yaw_from_quaternion(offset.rotation))
+                if not sane(*mount):
+                    self._ignore(f'the mount of {describe(transform.child_frame_id)} on '
+                                 '/tf_static: not finite, or beyond 100 m')
+                    continue
+                mounts.setdefault(robot, {})[frame] = mount
         for robot, robot_mounts in mounts.items():
             self.scene.own_look(robot).mounts = robot_mounts
 
@@ -162,30 +186,52 @@ class StdrViewer(GuardedNode):
         for marker in message.markers:
             if marker.ns == 'footprint' and marker.action == Marker.ADD:
                 robot = marker.header.frame_id.rpartition('/')[0]
+                if not RADIUS.contains(0.5 * marker.scale.x):
+                    self._ignore(f'the footprint marker of {describe(robot)}: its radius must '
+                                 f'be {RADIUS.text()} m')
+                    continue
                 self.scene.own_look(robot).radius = 0.5 * marker.scale.x
 
     def _on_obstacle_markers(self, message):
         """Take every obstacle from its body marker; each message holds all of them."""
-        self.scene.obstacles = {
-            marker.id: ObstacleView(marker.pose.position.x, marker.pose.position.y,
-                                    0.5 * marker.scale.x, OBSTACLE_MARKERS[marker.ns])
-            for marker in message.markers
-            if marker.ns in OBSTACLE_MARKERS and marker.action == Marker.ADD}
+        obstacles = {}
+        for marker in message.markers:
+            if marker.ns in OBSTACLE_MARKERS and marker.action == Marker.ADD:
+                x, y, radius = marker.pose.position.x, marker.pose.position.y, 0.5 * marker.scale.x
+                if not (sane(x, y) and RADIUS.contains(radius)):
+                    self._ignore(f'obstacle marker {marker.id}: its pose is not finite or its '
+                                 f'radius not {RADIUS.text()} m')
+                    continue
+                obstacles[marker.id] = ObstacleView(x, y, radius, OBSTACLE_MARKERS[marker.ns])
+        self.scene.obstacles = obstacles
 
     def _on_status(self, message):
-        self.scene.status = f'robot_status: {message.data}'
+        text = ' '.join(message.data.split())
+        self.scene.status = 'robot_status: ' + (
+            text if len(text) <= STATUS_SHOWN else text[:STATUS_SHOWN] + '...')
 
     def _on_odometry(self, robot, message):
-        self.scene.move(robot, pose_from_message(message.pose.pose))
+        pose = pose_from_message(message.pose.pose)
+        if not sane(*pose):
+            self._ignore(f'odometry of {robot}: not finite, or beyond {FAR:g} m')
+            return
+        self.scene.move(robot, pose)
 
     def _on_laser(self, robot, frame_id, message):
+        shape = (message.angle_min, message.angle_increment, message.range_max)
+        if not (sane(*shape) and 0 < len(message.ranges) <= MAX_RAYS):
+            self._ignore(f'scan {robot}/{frame_id}: its angles or range are not finite, or it '
+                         f'has no rays or more than {MAX_RAYS}')
+            return
         self.scene.robot(robot).lasers[frame_id] = LaserReading(
-            message.angle_min, message.angle_increment, message.range_max,
-            np.asarray(message.ranges, dtype=float))
+            *shape, np.asarray(message.ranges, dtype=float))
 
     def _on_sonar(self, robot, frame_id, message):
-        self.scene.robot(robot).sonars[frame_id] = SonarReading(
-            message.field_of_view, message.min_range, message.max_range, message.range)
+        cone = (message.field_of_view, message.min_range, message.max_range)
+        if not sane(*cone) or math.isnan(message.range):
+            self._ignore(f'range {robot}/{frame_id}: not finite, or beyond {FAR:g} m')
+            return
+        self.scene.robot(robot).sonars[frame_id] = SonarReading(*cone, message.range)
 
     def render_frame(self):
         """Paint the scene onto the surface and return it."""

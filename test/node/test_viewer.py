@@ -3,16 +3,24 @@
 import math
 import os
 
+from geometry_msgs.msg import TransformStamped
+from nav_msgs.msg import OccupancyGrid, Odometry
 import numpy as np
 from PIL import Image
 import pytest
-from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_until
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_for, spin_until
+from sensor_msgs.msg import LaserScan
 from simulation_interfaces.msg import EntityState
 from simulation_interfaces.srv import SetEntityState, SpawnEntity
+from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import LASER, MOVING_OBSTACLE, OBSTACLE, ROBOT, SONAR, View, WALL
 from stdr_lite.viewer.stdr_viewer import StdrViewer
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
 
 os.environ['SDL_VIDEODRIVER'] = 'dummy'
 ROBOTS = {'robot0': (3.0, 7.5, 0.0), 'scout': (10.0, 10.0, math.pi / 2)}
@@ -120,3 +128,65 @@ def test_obstacles_are_drawn_where_they_are(ros_context, executor):
         column, row = (round(value) for value in viewer.view.to_screen(obstacle.x, obstacle.y))
         assert tuple(pixels[column, row]) == (MOVING_OBSTACLE if obstacle.moving else OBSTACLE)
     assert sorted(obstacle.moving for obstacle in scene.obstacles.values()) == [False, True]
+
+
+class Vandal(Node):
+    """Publishes one malformed message of every kind the viewer reads."""
+
+    def __init__(self, context):
+        super().__init__('vandal', context=context)
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.topics = {
+            '/map': self.create_publisher(OccupancyGrid, '/map', latched),
+            '/tf_static': self.create_publisher(TFMessage, '/tf_static', latched),
+            'markers': self.create_publisher(MarkerArray, '/stdr_lite/robot_markers', latched),
+            'obstacles': self.create_publisher(MarkerArray, '/stdr_lite/obstacle_markers',
+                                               latched),
+            'status': self.create_publisher(String, 'robot_status', latched),
+            'odom': self.create_publisher(Odometry, '/wreck/odom', 10),
+            'laser': self.create_publisher(LaserScan, '/wreck/laser_0', 10)}
+
+    def publish_everything(self):
+        grid = OccupancyGrid()
+        grid.info.width, grid.info.height, grid.info.resolution = 100, 100, 0.05
+        self.topics['/map'].publish(grid)
+        mount = TransformStamped()
+        mount.header.frame_id, mount.child_frame_id = 'wreck/base_link', 'wreck/laser_0'
+        mount.transform.translation.x = math.nan
+        self.topics['/tf_static'].publish(TFMessage(transforms=[mount]))
+        footprint = Marker(ns='footprint', action=Marker.ADD)
+        footprint.header.frame_id, footprint.scale.x = 'wreck/base_link', math.inf
+        self.topics['markers'].publish(MarkerArray(markers=[footprint]))
+        rock = Marker(ns='static_obstacle', action=Marker.ADD)
+        rock.pose.position.x, rock.scale.x = math.nan, 0.5
+        self.topics['obstacles'].publish(MarkerArray(markers=[rock]))
+        self.topics['status'].publish(String(data='x' * 1_000_000))
+        odometry = Odometry()
+        odometry.pose.pose.position.x = math.nan
+        self.topics['odom'].publish(odometry)
+        scan = LaserScan(angle_min=math.nan, ranges=[1.0] * 10)
+        self.topics['laser'].publish(scan)
+
+
+def test_malformed_messages_leave_the_viewer_drawing(ros_context, executor):
+    executor.add_node(StdrLite(context=ros_context,
+                               parameter_overrides=overrides(real_time_factor=5.0)))
+    viewer = StdrViewer(surface=pygame.Surface((800, 600)), context=ros_context)
+    vandal = Vandal(ros_context)
+    for node in (viewer, vandal):
+        executor.add_node(node)
+    scene = viewer.scene
+    spin_until(executor, lambda: scene.cells is not None and 'robot0' in scene.robots
+               and all(topic.get_subscription_count() for topic in vandal.topics.values()),
+               what='the simulator seen and every topic matched')
+    vandal.publish_everything()
+    spin_until(executor, lambda: scene.status.endswith('...'), what='the long status')
+    spin_for(executor, 0.5)
+    assert scene.cells.shape == (300, 400)
+    assert 'wreck' not in scene.robots and not scene.obstacles
+    assert math.isfinite(scene.look('wreck').radius)
+    assert len(scene.status) < 200
+    frame = pygame.surfarray.array3d(viewer.render_frame())
+    column, row = (round(value) for value in viewer.view.to_screen(0.9, 1.9))
+    assert tuple(frame[column, row]) == ROBOT
