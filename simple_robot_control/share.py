@@ -24,6 +24,21 @@ def share_directory() -> str:
         return os.path.join(sys.prefix, 'share', PACKAGE_NAME)
 
 
+def missing_packages(packages: list[str]) -> list[str]:
+    """Return those of the ROS packages that the ament index does not know (not installed)."""
+    try:
+        from ament_index_python.packages import get_package_prefix
+    except ImportError:
+        return list(packages)
+    missing = []
+    for package in packages:
+        try:
+            get_package_prefix(package)
+        except (LookupError, ValueError, OSError):
+            missing.append(package)
+    return missing
+
+
 def shared_file(*parts: str) -> str:
     """Path of a file under the share directory."""
     return os.path.join(share_directory(), *parts)

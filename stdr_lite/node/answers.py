@@ -10,6 +10,10 @@ from simulation_interfaces.msg import Result
 
 # Requests are queued whole however many come at once: no burst loses one.
 SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+# StepSimulation answers once its steps are taken, so it is kept short; the SimulateSteps action
+# takes more, up to a count that still ends (a day of sim time at 1000 Hz is 86.4 M steps).
+MAX_SERVICE_STEPS = 10_000
+MAX_ACTION_STEPS = 1_000_000_000
 
 
 class Refusal(Exception):

@@ -24,14 +24,10 @@ from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetS
                                        SetSimulationState, StepSimulation, UnloadWorld)
 from stdr_lite.core.spawnables import path_of, SPAWN_FORMATS, SpawnResourceError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.answers import Refusal, result
+from stdr_lite.node.answers import MAX_ACTION_STEPS, MAX_SERVICE_STEPS, Refusal, result
 from stdr_lite.node.messages import map_message
 from stdr_lite.node.requests import in_thread, WAIT
 
-# StepSimulation answers once its steps are taken, so it is kept short; the action takes more,
-# up to a count that still ends (a day of sim time at 1000 Hz is 86.4 million steps).
-MAX_SERVICE_STEPS = 10_000
-MAX_ACTION_STEPS = 1_000_000_000
 FEATURES = SimulatorFeatures
 IMPLEMENTED = [
     FEATURES.SPAWNING, FEATURES.DELETING, FEATURES.ENTITY_TAGS, FEATURES.ENTITY_BOUNDS,

@@ -8,8 +8,10 @@ import argparse
 from dataclasses import dataclass, field
 from typing import Callable
 
+from rclpy.exceptions import InvalidServiceNameException
+from rclpy.validate_full_topic_name import validate_full_topic_name
 from simple_robot_control.pose import pose_from_message, set_pose
-from simple_robot_control.validation import parse_decimal
+from simple_robot_control.validation import describe, parse_decimal
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import (EntityCategory, EntityFilters, EntityState,
                                        SimulationState, SimulatorFeatures)
@@ -19,6 +21,7 @@ from simulation_interfaces.srv import (DeleteEntity, GetAvailableWorlds, GetCurr
                                        LoadWorld, ResetSimulation, SetEntityState,
                                        SetSimulationState, SpawnEntity, StepSimulation,
                                        UnloadWorld)
+from stdr_lite.node.answers import MAX_ACTION_STEPS, MAX_SERVICE_STEPS
 
 DESCRIPTION = ('stdr_ctl: control a running stdr_lite through the standard simulation services '
                '(simulation_interfaces): time, entities and worlds. Prints the answer; exit '
@@ -74,11 +77,32 @@ def finite(text: str) -> float:
     return value
 
 
-def step_count(text: str) -> int:
-    """Parse a number of steps (a whole number, at least 1), for argparse."""
-    if not text.isdigit() or int(text) < 1:
-        raise argparse.ArgumentTypeError(f'not a whole number of steps, at least 1: {text!r}')
-    return int(text)
+def step_count(most: int) -> Callable[[str], int]:
+    """Return a parser of a number of steps (a whole number from 1 to most), for argparse."""
+    def parse(text):
+        if not (text.isascii() and text.isdigit()) or not 1 <= int(text) <= most:
+            raise argparse.ArgumentTypeError(f'not a whole number of steps from 1 to {most:,}: '
+                                             f'{describe(text)}')
+        return int(text)
+    return parse
+
+
+def timeout(text: str) -> float:
+    """Parse a wait in seconds, in (0, 3600], for argparse."""
+    value = finite(text)
+    if not 0.0 < value <= 3600.0:
+        raise argparse.ArgumentTypeError(f'a timeout must be in (0, 3600] seconds, got {text!r}')
+    return value
+
+
+def simulator_name(text: str) -> str:
+    """Parse the full name of a simulator node, whose services are <name>/<service>."""
+    try:
+        validate_full_topic_name(f'{text.rstrip("/")}/get_simulation_state', is_service=True)
+    except InvalidServiceNameException:
+        raise argparse.ArgumentTypeError(f'not the full name of a node (such as /stdr_lite): '
+                                         f'{describe(text)}') from None
+    return text
 
 
 def format_pose(pose: tuple) -> str:
@@ -152,12 +176,12 @@ COMMANDS = {
                   {'state': SimulationState(state=state)}, lambda _: [STATE_NAMES[state]]))
        for name, state in STATES.items()},
     'step': ('take N steps while paused, then answer (StepSimulation)',
-             lambda parser: parser.add_argument('steps', type=step_count),
+             lambda parser: parser.add_argument('steps', type=step_count(MAX_SERVICE_STEPS)),
              lambda options: Call(StepSimulation, 'step_simulation', {'steps': options.steps},
                                   lambda _: [f'stepped {options.steps}'])),
     'simulate': ('take N steps while paused as an action, paced as when playing '
                  '(SimulateSteps); Ctrl-C cancels',
-                 lambda parser: parser.add_argument('steps', type=step_count),
+                 lambda parser: parser.add_argument('steps', type=step_count(MAX_ACTION_STEPS)),
                  lambda options: Call(SimulateSteps, 'simulate_steps', {'steps': options.steps},
                                       lambda _: [f'simulated {options.steps}'])),
     'reset': ('reset time, state and spawned entities, or the scopes given',
@@ -236,10 +260,11 @@ COMMANDS = {
 
 def build_arguments() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog='stdr_ctl', description=DESCRIPTION)
-    parser.add_argument('--simulator', default='/stdr_lite',
+    parser.add_argument('--simulator', default='/stdr_lite', type=simulator_name,
                         help='the simulator node whose services to call (default /stdr_lite)')
-    parser.add_argument('--timeout', type=finite, default=10.0,
-                        help='seconds to wait for the simulator to answer (default 10)')
+    parser.add_argument('--timeout', type=timeout, default=10.0,
+                        help='seconds to wait for the simulator to answer, in (0, 3600] '
+                        '(default 10)')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for name, (summary, add_arguments, _) in COMMANDS.items():
         add_arguments(commands.add_parser(name, help=summary, description=summary))
