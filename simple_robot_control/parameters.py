@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import difflib
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
-from rclpy.exceptions import InvalidParameterTypeException, ParameterException
+from rclpy.exceptions import ParameterException
 from rclpy.parameter import Parameter
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.validation import Bounds, compact, is_finite_number, ros_name_problem
@@ -106,11 +106,10 @@ def declare_parameters(node, specs):
             overrides[spec.name] = spec.as_declared_type(overrides[spec.name])
         try:
             node.declare_parameter(spec.name, spec.default, spec.descriptor())
-        except InvalidParameterTypeException as error:
-            raise ConfigError(f'parameter {spec.name}: {error}') from None
+            value = node.get_parameter(spec.name).value
         except ParameterException as error:
-            raise ConfigError(f'parameter {spec.name}: {error}') from None
-        value = node.get_parameter(spec.name).value
+            raise ConfigError(f'parameter {spec.name}: {error} (expected a '
+                              f'{type(spec.default).__name__})') from None
         value = list(value) if isinstance(spec.default, list) else value
         problem = spec.problem(value)
         if problem is not None:

@@ -48,6 +48,14 @@ def describe(value: object) -> str:
     return f'a {type(value).__name__}'
 
 
+def shorten(text: str, length: int = 40) -> str:
+    """Return text, or its beginning and end around '...' when longer than length."""
+    if len(text) <= length:
+        return text
+    keep = (length - 3) // 2
+    return f'{text[:keep]}...{text[-keep:]}'
+
+
 def parse_decimal(text: str) -> float | None:
     """Return the finite number a plain ASCII decimal stands for, or None if it is not one."""
     if not _DECIMAL.match(text):

@@ -10,7 +10,7 @@ robot is checked first, at start and at every spawn.
 
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from simple_robot_control.node_runtime import rcl_problem
-from simple_robot_control.validation import describe
+from simple_robot_control.validation import shorten
 from stdr_lite.core.robot_description import ROBOT_TOPICS
 
 # rmw's limit: 255 characters less 8 for the middleware's own prefixes and suffixes.
@@ -47,10 +47,10 @@ def check_robot_names(node, frames, namespace, description):
         except rclpy_implementation.RCLError as error:
             expanded = f'{node.get_namespace().rstrip("/")}/{relative}'
             if len(expanded) > MAX_TOPIC_LENGTH:
-                problem = (f'its topic {describe(expanded)} would be {len(expanded)} '
+                problem = (f'its topic {shorten(expanded)} would be {len(expanded)} '
                            f'characters long; ROS allows at most {MAX_TOPIC_LENGTH}')
             else:
-                problem = f'its topic {describe(expanded)} is no ROS topic: {rcl_problem(error)}'
+                problem = f'its topic {shorten(expanded)} is no ROS topic: {rcl_problem(error)}'
             raise NamingProblem(part, problem + (
                 ': shorten its name or namespace' if part == 'name'
-                else f': shorten the sensor frame_id {describe(leaf)}')) from None
+                else f': shorten the sensor frame_id {shorten(leaf)}')) from None

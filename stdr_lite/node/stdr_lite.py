@@ -11,7 +11,7 @@ from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import planar_pose
-from simple_robot_control.validation import describe
+from simple_robot_control.validation import describe, shorten
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
 from stdr_lite.core.world import PlacementError
@@ -56,7 +56,7 @@ class StdrLite(GuardedNode):
             try:
                 check_robot_names(self, self.frames, robot.namespace, robot.description)
             except NamingProblem as problem:
-                raise ConfigError(f'robot {name}: {problem}') from None
+                raise ConfigError(f'robot {shorten(name)}: {problem}') from None
         self.requests = RequestQueue(self)
         self._stamped = params['cmd_vel_stamped']
         self._frame_publisher = FramePublisher(self, self.frames, self.simulation)

@@ -20,6 +20,16 @@ def files(tmp_path):
         '0.5, min_range: 0.1, max_range: 3, frequency: 1e12}\n')
     (tmp_path / 'passwd').write_text('root:x:0:0:root:/root:/bin/bash\n' * 20)
     os.mkfifo(tmp_path / 'fifo.txt')
+    laser = ('footprint: {{radius: 0.2}}\nsensors:\n  lasers:\n    - {{frame_id: {}, '
+             'min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, num_rays: 5, '
+             'frequency: 10}}\n')
+    (tmp_path / 'long_names.yaml').write_text(f'robots:\n  - {{name: {"r" * 248}}}\n')
+    (tmp_path / 'long_frame.yaml').write_text(laser.format('l' * 250))
+    (tmp_path / 'odom_laser.yaml').write_text(laser.format('odom'))
+    (tmp_path / 'nested.yaml').write_text('[' * 5000 + ']' * 5000 + '\n')
+    (tmp_path / 'notyaml.yaml').write_text('a: [[[[\n')
+    (tmp_path / 'nested_params.yaml').write_text(
+        'stdr_lite:\n  ros__parameters:\n    initial_pose: ' + '[' * 5000 + ']' * 5000 + '\n')
     return tmp_path
 
 
@@ -82,3 +92,71 @@ def test_plot_run_draws_an_interrupted_record_and_says_so(tmp_path):
     assert result.returncode == 0, result.stderr
     assert f'{record}:52: the last line was cut short' in result.stderr
     assert Path(tmp_path / 'run.png').stat().st_size > 10000
+
+
+ROS_EXECUTABLES = {'stdr_lite': [], 'stdr_viewer': [], 'move_robot': [], 'stdr_ctl': ['state'],
+                   'waypoint_controller': [], 'course_monitor': []}
+
+
+@pytest.mark.parametrize('name', ROS_EXECUTABLES)
+def test_malformed_ros_arguments_are_one_line_for_every_executable(name):
+    result = run(name, *ROS_EXECUTABLES[name], '--ros-args', '-r', 'foo', timeout=30)
+    assert_one_line_refusal(result, f"{name}: error: bad --ros-args: Couldn't parse remap rule: "
+                            "'-r foo'")
+    assert '.c:' not in result.stderr
+
+
+@pytest.mark.parametrize('arguments, message', [
+    (['-p'], "Couldn't parse trailing -p flag"),
+    (['-p', 'rate_hz'], "Couldn't parse parameter override rule: '-p rate_hz'"),
+    (['--params-file', '/no/such/params.yaml'], 'Error opening YAML file'),
+    (['--params-file', 'FILES/notyaml.yaml'], "Couldn't parse params file"),
+    (['--params-file', 'FILES/nested_params.yaml'], 'parameter initial_pose:'),
+    (['-p', 'rate_hz:=50', '-p', 'rate_hz_:=3.0'],
+     "unknown parameter 'rate_hz_' for stdr_lite; did you mean rate_hz?"),
+    (['-p', 'robots_file:=FILES/long_names.yaml'], 'cmd_vel would be 257 characters long; ROS '
+     'allows at most 247: shorten its name or namespace'),
+    (['-p', 'robot_description:=FILES/long_frame.yaml'], 'shorten the sensor frame_id'),
+    (['-p', 'robot_description:=FILES/odom_laser.yaml'], 'names one of the robot topics'),
+    (['-p', 'odom_frame_id:=base_link'], 'odom_frame_id and base_frame_id are both'),
+    (['-p', 'map_yaml:=FILES/nested.yaml'], 'nested'),
+    (['-p', 'robot_description:=FILES/nested.yaml'], 'nested'),
+    (['-p', 'robots_file:=FILES/nested.yaml'], 'nested'),
+])
+def test_the_simulator_refuses_what_it_cannot_be_in_one_line(files, arguments, message):
+    arguments = [argument.replace('FILES', str(files)) for argument in arguments]
+    assert_one_line_refusal(run('stdr_lite', '--ros-args', *arguments), message)
+
+
+def test_the_controller_names_the_parameter_meant(files):
+    result = run('waypoint_controller', '--ros-args', '-p', 'stall_timout:=5.0', timeout=30)
+    assert_one_line_refusal(result, "unknown parameter 'stall_timout' for waypoint_controller; "
+                            'did you mean stall_timeout?')
+
+
+def test_whole_numbers_are_taken_for_doubles(tmp_path):
+    result = run('stdr_lite', '--ros-args', '-p', 'rate_hz:=2000', timeout=30)
+    assert_one_line_refusal(result, 'rate_hz must be in [1, 1000], got 2000')
+
+
+@pytest.mark.parametrize('name, arguments', [
+    ('stdr_viewer', ['--ros-args', '-p', 'robot_description:=FILES/nested.yaml']),
+    ('plot_run', ['FILES/run.jsonl', '--map', 'FILES/nested.yaml']),
+])
+def test_nested_yaml_is_one_line_for_the_viewer_and_plot_run(files, name, arguments):
+    (files / 'run.jsonl').write_text(json.dumps({'course': 'c', 'waypoints': [[1, 2, 0]],
+                                                 'distance_tolerance': 0.1,
+                                                 'angle_tolerance': 0.1}) + '\n')
+    arguments = [argument.replace('FILES', str(files)) for argument in arguments]
+    assert_one_line_refusal(run(name, *arguments, timeout=30), 'nested')
+
+
+@pytest.mark.parametrize('record', ['COURSE', 'FILES/fifo.txt', '/dev/null', 'FILES'])
+def test_course_monitor_writes_over_nothing(files, record):
+    course = files / 'course.txt'
+    course.write_text('3 2 0\n')
+    record = {'COURSE': str(course)}.get(record, record.replace('FILES', str(files)))
+    result = run('course_monitor', str(course), '--ros-args', '-p', f'record_file:={record}',
+                 timeout=30)
+    assert_one_line_refusal(result, f'record_file {record}: ')
+    assert course.read_text() == '3 2 0\n'

@@ -7,7 +7,9 @@ import subprocess
 import time
 
 from bench.realtime import write_robot_grid
-from processes import start_logged, stop, wait_for_text
+import numpy as np
+from PIL import Image
+from processes import run, start, start_logged, stop, wait_for_text
 import pytest
 
 STOP_WITHIN = 1.0
@@ -69,3 +71,35 @@ def test_a_waiting_node_stops_on_a_signal(tmp_path, name, ready, signal_number):
         time.sleep(2.0)
     finally:
         assert_quiet_prompt_exit(process, signal_number, log)
+
+
+@pytest.fixture
+def big_world(tmp_path):
+    """Write a map of 4096 x 4096 cells, the largest a world may be."""
+    pixels = np.full((4096, 4096), 254, dtype=np.uint8)
+    pixels[::64, :] = pixels[:, ::64] = 0
+    Image.fromarray(pixels).save(tmp_path / 'big.pgm')
+    (tmp_path / 'big.yaml').write_text('image: big.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n')
+    return tmp_path / 'big.yaml'
+
+
+@pytest.mark.parametrize('signal_number', SIGNALS, ids=lambda number: number.name)
+@pytest.mark.parametrize('request_', ['step', 'load-world'])
+def test_the_simulator_stops_during_a_long_request(tmp_path, big_world, request_,
+                                                   signal_number):
+    log = tmp_path / 'stdr_lite.log'
+    robots = write_robot_grid(tmp_path, 200)
+    process = start_logged('stdr_lite', '--ros-args', '-p', f'robots_file:={robots}', log=log)
+    client = None
+    try:
+        wait_for_text(log, 'real_time_factor', process, timeout=60.0)
+        assert run('stdr_ctl', 'pause').returncode == 0
+        arguments = ['step', '10000'] if request_ == 'step' else ['load-world', str(big_world)]
+        client = start('stdr_ctl', *arguments)
+        time.sleep(1.5)
+        assert client.poll() is None, 'the request was over before the signal'
+    finally:
+        assert_quiet_prompt_exit(process, signal_number, log)
+        if client is not None:
+            client.kill()
+            client.wait()

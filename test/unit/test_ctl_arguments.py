@@ -11,8 +11,8 @@ from stdr_lite.tools.ctl_commands import build_arguments
     (['step', '0'], 'not a whole number of steps'),
     (['step', '\u0662'], 'not a whole number of steps'),
     (['simulate', str(MAX_ACTION_STEPS + 1)], f'from 1 to {MAX_ACTION_STEPS:,}'),
-    (['--simulator', '/bad name', 'state'], "not the full name of a node (such as /stdr_lite): "
-     "'/bad name'"),
+    (['--simulator', '/bad name', 'state'],
+     "not the full name of a node (such as /stdr_lite): '/bad name'"),
     (['--timeout', '-1', 'state'], 'a timeout must be in (0, 3600] seconds'),
     (['--timeout', 'nan', 'state'], 'not a finite number'),
 ])
