@@ -51,7 +51,10 @@ class FootprintChecker:
             distances = wall_distances(occupancy_map.occupied)
         # From a point of a cell to the nearest occupied square is at least the distance
         # between the two cells' centres less a cell's diagonal (the map edge included).
-        self.wall_gap = self.resolution * (distances - math.sqrt(2.0)) - GAP_SLACK
+        # In place, term by term: a map of 16 M cells holds several such arrays at once.
+        self.wall_gap = distances - math.sqrt(2.0)
+        self.wall_gap *= self.resolution
+        self.wall_gap -= GAP_SLACK
         # The cells around a point's cell, nearest first, with the least gap between the
         # point's cell and each: a circle of radius r can touch only those whose gap is < r.
         steps = np.arange(-self._pad, self._pad + 1)

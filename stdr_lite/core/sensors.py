@@ -38,11 +38,14 @@ class RangeFinder:
         # cell.
         if distances is None:
             distances = wall_distances(occupancy_map.occupied)
-        occupied = occupancy_map.occupied
         # A border of -1 stands for everything outside the map: indices are clipped onto it.
-        self._clearance = np.pad(
-            np.where(occupied, -1.0, np.maximum(distances - math.sqrt(2.0), 0.0)
-                     * self.resolution), 1, constant_values=-1.0)
+        # Filled in place, term by term: a map of 16 M cells holds several such arrays at once.
+        self._clearance = np.full((self._height + 2, self._width + 2), -1.0)
+        inside = self._clearance[1:-1, 1:-1]
+        np.subtract(distances, math.sqrt(2.0), out=inside)
+        np.maximum(inside, 0.0, out=inside)
+        inside *= self.resolution
+        inside[occupancy_map.occupied] = -1.0
 
     def cast(self, x: ArrayLike, y: ArrayLike, angle: ArrayLike, max_range: ArrayLike,
              circles: tuple | None = None) -> np.ndarray:

@@ -21,6 +21,7 @@ from rclpy.task import Future
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.input_files import output_problem
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.occupancy_map import MapError, OccupancyMap
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
@@ -87,6 +88,10 @@ class StdrViewer(GuardedNode):
         except RobotFileError as error:
             raise ConfigError(str(error)) from None
         self._screenshot = params['screenshot']
+        if self._screenshot:
+            problem = output_problem(self._screenshot, inputs=[params['robot_description']])
+            if problem is not None:
+                raise ConfigError(f'screenshot {self._screenshot}: {problem}')
         pygame.font.init()
         if surface is None:
             pygame.display.init()
@@ -272,8 +277,14 @@ class StdrViewer(GuardedNode):
     def shut_down(self):
         """Save the last frame when asked to, and close the window."""
         if self._screenshot:
-            pygame.image.save(self.render_frame(), self._screenshot)
-            self.get_logger().info(f'wrote {self._screenshot}')
+            try:
+                with open(self._screenshot, 'wb') as stream:
+                    pygame.image.save(self.render_frame(), stream, 'frame.png')
+            except (OSError, pygame.error) as error:
+                self.get_logger().error(f'{self._screenshot}: cannot write the screenshot: '
+                                        f'{error}')
+            else:
+                self.get_logger().info(f'wrote {self._screenshot}')
         if self._window:
             pygame.display.quit()
 

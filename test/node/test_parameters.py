@@ -117,3 +117,24 @@ def test_a_request_is_applied_whole_or_not_at_all(executor, tuning):
     count = len(speeds)
     spin_until(executor, lambda: len(speeds) > count + 20, what='odometry after the refusal')
     assert max(speeds[-10:]) == pytest.approx(0.5)
+
+
+def test_a_whole_number_is_taken_for_a_double_as_ros2_param_set_sends_it(executor, tuning):
+    client, speeds, controller = tuning
+    (result,) = answer(executor, client.set_parameters([Parameter('heading_kp', value=3)]))
+    assert result.successful, result.reason
+    assert controller.get_parameter('heading_kp').value == 3.0
+    assert controller.get_parameter('heading_kp').type_ == Parameter.Type.DOUBLE
+    (refused,) = answer(executor, client.set_parameters([Parameter('heading_kp', value=2000)]))
+    assert not refused.successful and 'heading_kp must be in (0, 1000], got 2000' in (
+        refused.reason)
+
+
+def test_whole_numbers_are_taken_for_doubles_at_start(ros_context):
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
+        rate_hz=25, initial_pose=[2, 3, 0]))
+    try:
+        assert simulator.simulation.dt == pytest.approx(0.04)
+        assert simulator.simulation.pose('robot0') == (2.0, 3.0, 0.0)
+    finally:
+        simulator.destroy_node()

@@ -12,6 +12,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_for, spin_until
 from sensor_msgs.msg import LaserScan
+from simple_robot_control.node_runtime import ConfigError
 from simulation_interfaces.msg import EntityState
 from simulation_interfaces.srv import SetEntityState, SpawnEntity
 from std_msgs.msg import String
@@ -190,3 +191,15 @@ def test_malformed_messages_leave_the_viewer_drawing(ros_context, executor):
     frame = pygame.surfarray.array3d(viewer.render_frame())
     column, row = (round(value) for value in viewer.view.to_screen(0.9, 1.9))
     assert tuple(frame[column, row]) == ROBOT
+
+
+def test_the_screenshot_goes_exactly_where_asked_and_over_no_folder(ros_context, tmp_path):
+    with pytest.raises(ConfigError, match='is a folder, not a file'):
+        StdrViewer(surface=pygame.Surface((200, 150)), context=ros_context,
+                   parameter_overrides=overrides(screenshot=str(tmp_path)))
+    picture = tmp_path / 'last_frame'
+    viewer = StdrViewer(surface=pygame.Surface((200, 150)), context=ros_context,
+                        parameter_overrides=overrides(screenshot=str(picture)))
+    viewer.shut_down()
+    viewer.destroy_node()
+    assert picture.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
