@@ -42,7 +42,7 @@ IMPLEMENTED = [
     FEATURES.WORLD_INFO_GETTING, FEATURES.AVAILABLE_WORLDS, FEATURES.SPAWNING_ENTITIES]
 CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of unicycle robots and circular '
                'obstacles. Entities are robots (STDR robot YAML) and obstacles; worlds are '
-               'map_server maps. See the README, section "Controlling the simulation".')
+               'map_server maps. See doc/simulation_api.md of simple_robot_control.')
 STATE = SimulationState
 
 

@@ -64,7 +64,7 @@ def test_features_are_exactly_those_served(world):
     assert sorted(features.features) == sorted(IMPLEMENTED)
     assert SimulatorFeatures.NAMED_POSES not in features.features
     assert list(features.spawn_formats) == ['stdr_robot_yaml', 'stdr_lite_obstacle_yaml']
-    assert 'README' in features.custom_info
+    assert 'doc/simulation_api.md' in features.custom_info
 
 
 def test_pause_holds_clock_and_odometry_and_play_resumes(world, executor):

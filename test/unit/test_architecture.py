@@ -23,7 +23,8 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/occupancy_map.py',
         'simple_robot_control/share.py'] + [
     f'waypoint_controller/{name}.py' for name in (
-        'control_law', 'pid', 'schedule', 'stall', 'status', 'waypoints', 'run_record')]
+        'control_law', 'pid', 'schedule', 'stall', 'continuity', 'status', 'waypoints',
+        'run_record', 'planner', 'reeds_shepp', 'clearance')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
