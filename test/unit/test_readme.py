@@ -9,8 +9,8 @@ from stdr_lite.viewer import stdr_viewer
 from waypoint_controller import course_monitor, waypoint_controller
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-DOCUMENTATION = '\n'.join(path.read_text() for path in [REPOSITORY / 'README.md',
-                                                         *sorted(REPOSITORY.glob('doc/*.md'))])
+PAGES = [REPOSITORY / 'README.md', *sorted(REPOSITORY.glob('doc/*.md'))]
+DOCUMENTATION = '\n'.join(path.read_text() for path in PAGES)
 
 
 @pytest.mark.parametrize('module', [stdr_lite, move_robot, waypoint_controller, course_monitor,
