@@ -27,6 +27,7 @@ bench: install
 	$(PYTHON) -m bench.optimum
 	$(PYTHON) -m bench.realtime
 	$(PYTHON) -m bench.viewer
+	$(PYTHON) -m bench.requests
 
 test: install
 	$(PYTHON) -m pytest

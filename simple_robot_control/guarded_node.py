@@ -61,8 +61,9 @@ class GuardedNode(Node):
             **kwargs)
 
     def create_timer(self, timer_period_sec, callback, *args, **kwargs):
-        return super().create_timer(timer_period_sec, self.guard(callback, 'a timer'), *args,
-                                    **kwargs)
+        name = getattr(callback, '__qualname__', type(callback).__name__)
+        return super().create_timer(timer_period_sec, self.guard(callback, f'the timer {name}'),
+                                    *args, **kwargs)
 
     def create_service(self, srv_type, srv_name, callback, *, failure=None, **kwargs):
         """Create a service; failure(request, response) answers when callback raises."""

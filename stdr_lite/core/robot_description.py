@@ -33,6 +33,9 @@ RAYS = Bounds(1, 10000)
 FREQUENCY = Bounds(0.001, 1000.0)
 NOISE_MEAN = Bounds(-1.0, 1.0)
 NOISE_STD = Bounds(0.0, 1.0)
+# Each sensor is a topic of its own, and endpoints are what a swarm costs most: twice the
+# sensors of STDR's most equipped robot (khepera3, 14).
+MAX_SENSORS = 32
 # A robot's own topics, /<robot>/<name>: a sensor's topic is /<robot>/<frame_id>, so no sensor
 # may take one of these names.
 ROBOT_TOPICS = ('cmd_vel', 'odom', 'ground_truth', 'initialpose')
@@ -100,10 +103,15 @@ def parse_robot(data: object, source: str = '<robot>') -> 'RobotDescription':
         reader.fail('footprint.points', 'polygon footprints are not supported; give a radius')
     radius = reader.number(footprint, 'radius', 'footprint', RADIUS)
     sensors = reader.mapping(data.get('sensors', {}) or {}, 'sensors')
+    laser_items = reader.sequence(sensors, 'lasers', 'sensors')
+    sonar_items = reader.sequence(sensors, 'sonars', 'sensors')
+    if len(laser_items) + len(sonar_items) > MAX_SENSORS:
+        reader.fail('sensors', f'{len(laser_items) + len(sonar_items)} sensors; a robot carries '
+                    f'at most {MAX_SENSORS} (STDR robots carry up to 14)')
     lasers = tuple(_laser(reader, item, f'sensors.lasers[{index}]')
-                   for index, item in enumerate(reader.sequence(sensors, 'lasers', 'sensors')))
+                   for index, item in enumerate(laser_items))
     sonars = tuple(_sonar(reader, item, f'sensors.sonars[{index}]')
-                   for index, item in enumerate(reader.sequence(sensors, 'sonars', 'sensors')))
+                   for index, item in enumerate(sonar_items))
     _check_sensor_names(reader, lasers, sonars)
     return RobotDescription(radius, reader.pose(data, 'initial_pose', '', POSITION), lasers,
                             sonars)

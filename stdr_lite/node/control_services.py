@@ -108,8 +108,8 @@ class SimulationControl:
             stepper.set_state(target)
         elif target == STATE.STATE_STOPPED:
             self._node.simulation.reset()
-            self._node.restarted(new_time=True)
             stepper.set_state(target)
+            yield from self._node.restart(new_time=True)
         else:
             raise Refusal(response.INCORRECT_TRANSITION,
                           f'state {target} is reached through load_world or unload_world, '
@@ -181,7 +181,7 @@ class SimulationControl:
                                         spawned=bool(scope & request.SCOPE_SPAWNED))
         except PlacementError as error:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
-        self._node.restarted(new_time=new_time)
+        yield from self._node.restart(new_time=new_time)
 
     def _available_worlds(self, request, response):
         if request.filter.tags:
@@ -237,9 +237,9 @@ class SimulationControl:
         except (MapError, PlacementError) as error:
             raise Refusal(_load_failure_code(response, error), str(error)) from None
         self._world = path
-        self._node.restarted(new_time=True, grid=message)
         self._node.stepper.set_state(STATE.STATE_STOPPED)
         response.world = world_resource(path)
+        yield from self._node.restart(new_time=True, grid=message)
 
     def _current_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
@@ -251,7 +251,7 @@ class SimulationControl:
             raise Refusal(response.NO_WORLD_LOADED, 'no world is loaded')
         self._node.simulation.reset(time=False, state=False, spawned=True)
         self._node.stepper.set_state(STATE.STATE_NO_WORLD)
-        self._node.sync_entities()
+        yield from self._node.entity_topics()
 
 
 def _prepare_world(simulation, path, map_frame):

@@ -69,7 +69,7 @@ class EntityServices:
         response.entity_name = self._spawn(request.name, request.allow_renaming, request.uri,
                                            request.resource_string, request.entity_namespace,
                                            request.initial_pose)
-        self._node.sync_entities()
+        yield from self._node.entity_topics()
 
     def _spawn_many(self, request, response):
         """Spawn each request on its own, one per slice; a failed one fails the call as a whole."""
@@ -84,7 +84,7 @@ class EntityServices:
             except Refusal as refusal:
                 outcome.result = result(refusal.code, str(refusal))
             response.results.append(outcome)
-            self._node.sync_entities()
+            yield from self._node.entity_topics()
             yield
         failed = [index for index, outcome in enumerate(response.results)
                   if outcome.result.result != Result.RESULT_OK]
@@ -156,8 +156,8 @@ class EntityServices:
     def _delete(self, request, response):
         self._entity(request.entity)
         self._simulation.remove(request.entity)
-        self._node.sync_entities()
         self._node.stepper.step_if_answered()
+        yield from self._node.entity_topics()
 
     def _entity(self, name):
         if name not in self._simulation:

@@ -36,6 +36,8 @@ class FramePublisher:
         self._markers = node.create_publisher(MarkerArray, '~/robot_markers', LATCHED)
         self._obstacles = node.create_publisher(MarkerArray, '~/obstacle_markers', LATCHED)
         self._entities_changed = self._obstacles_moved = False
+        # Each robot's entity, sensor mounts and markers, by name, as last published.
+        self._fixed = {}
         self._timer = node.create_timer(SHOW_PERIOD, self._show,
                                         clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._timer.cancel()
@@ -77,19 +79,36 @@ class FramePublisher:
         self._dynamic.publish(TFMessage(transforms=transforms))
 
     def _publish_fixed(self, simulation):
-        """Publish the sensor mounts and the markers of the robots there are now."""
-        frames, time_ns = self._frames, simulation.time_ns
+        """
+        Publish the sensor mounts and the markers of the robots there are now.
+
+        Each robot's are made once, when it first shows (a swarm holds thousands), and kept
+        while the same robot is there; only the markers' ids follow its place in the list.
+        """
+        shown = {}
         transforms, markers = [], [Marker(action=Marker.DELETEALL)]
         for index, name in enumerate(simulation.robot_names):
             robot = simulation.robot(name)
-            for sensor in robot.sensors:
-                transforms.append(transform(time_ns, frames.base(robot.namespace),
-                                            frames.sensor(robot.namespace, sensor.spec),
-                                            sensor.spec.pose))
-            markers += robot_markers(name, robot.description.radius,
-                                     frames.base(robot.namespace), 3 * index)
+            fixed = self._fixed.get(name)
+            if fixed is None or fixed[0] is not robot:
+                fixed = (robot, *self._fixed_of(robot, simulation.time_ns))
+            shown[name] = fixed
+            transforms += fixed[1]
+            for offset, marker in enumerate(fixed[2]):
+                marker.id = 3 * index + offset
+            markers += fixed[2]
+        self._fixed = shown
         self._static.publish(TFMessage(transforms=transforms))
         self._markers.publish(MarkerArray(markers=markers))
+
+    def _fixed_of(self, robot, time_ns):
+        """Return a robot's sensor mounts and its markers."""
+        frames = self._frames
+        mounts = [transform(time_ns, frames.base(robot.namespace),
+                            frames.sensor(robot.namespace, sensor.spec), sensor.spec.pose)
+                  for sensor in robot.sensors]
+        return mounts, robot_markers(robot.name, robot.description.radius,
+                                     frames.base(robot.namespace), 0)
 
     def _publish_obstacles(self, simulation):
         """Publish every obstacle's markers where it stands now (latched, for late viewers)."""

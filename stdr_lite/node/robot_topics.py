@@ -50,12 +50,30 @@ class RobotTopics:
             lambda message: on_initial_pose(name, message), 10)]
         self.cmd_vel_topic = command.topic_name
         self.command_type = type_name(TwistStamped if stamped else Twist)
+        self._prefix, self._frames = prefix, frames
         self._sensors = {}
-        for sensor in robot.sensors:
-            frame_id = sensor.spec.frame_id
-            message = sensor_message(frames.sensor(prefix, sensor.spec), sensor.spec)
-            publisher = self._counted_publisher(type(message), f'{prefix}/{frame_id}', frame_id)
-            self._sensors[frame_id] = (publisher, message)
+        self._unmade = list(robot.sensors)
+
+    @property
+    def complete(self):
+        """Whether every sensor has its publisher (see make_sensor_topic)."""
+        return not self._unmade
+
+    def make_sensor_topic(self):
+        """
+        Make the publisher of one more sensor, if any is left.
+
+        Endpoints cost a fraction of a millisecond each, and a robot may have a hundred
+        sensors: a spawn makes them one at a time, between steps. A sensor without its
+        publisher yet is read by no one.
+        """
+        if not self._unmade:
+            return
+        spec = self._unmade.pop(0).spec
+        message = sensor_message(self._frames.sensor(self._prefix, spec), spec)
+        publisher = self._counted_publisher(type(message), f'{self._prefix}/{spec.frame_id}',
+                                            spec.frame_id)
+        self._sensors[spec.frame_id] = (publisher, message)
 
     def _counted_publisher(self, kind, topic, key):
         """Create a publisher whose matched readers are counted in self._readers[key]."""
@@ -81,7 +99,7 @@ class RobotTopics:
 
     def listened(self, spec):
         """Whether anyone subscribes to this sensor's topic."""
-        return self._readers[spec.frame_id] > 0
+        return self._readers.get(spec.frame_id, 0) > 0
 
     def any_listened(self):
         """Whether anyone subscribes to any of the robot's sensors."""
@@ -93,10 +111,18 @@ class RobotTopics:
         fill_reading(message, reading)
         publisher.publish(message)
 
-    def destroy(self):
-        """Take the robot's topics off the graph."""
+    def dismantle(self):
+        """
+        Take the robot's topics off the graph, one at a time, yielding after each (a generator).
+
+        Withdrawing an endpoint costs more the more the node has (rmw sends the whole list
+        again): between steps, one at a time, a large swarm's robot goes without a stall.
+        """
         for subscription in self._subscriptions:
             self._node.destroy_subscription(subscription)
+            yield
         publishers = [self.odom_publisher, self._ground_truth_publisher]
         for publisher in publishers + [publisher for publisher, _ in self._sensors.values()]:
             self._node.destroy_publisher(publisher)
+            yield
+        self._unmade = []

@@ -94,25 +94,43 @@ class StdrLite(GuardedNode):
         return self.simulation.sim_time
 
     def sync_entities(self):
-        """Give every robot its topics and no other; publish frames and markers anew soon."""
-        for name in set(self._topics) - set(self.simulation.robot_names):
-            self._topics.pop(name).destroy()
+        """Give every robot its topics and no other, all at once (at start, or in a test)."""
+        for _ in self.entity_topics():
+            pass
+
+    def entity_topics(self):
+        """
+        Give every robot its topics and no other, yielding between endpoints (a generator).
+
+        A robot that went loses its topics, and a new one gets its own, before the first
+        yield, so that every robot of the simulation has its odometry and commands between
+        any two steps; then the endpoints are withdrawn and the sensors' made one at a time.
+        Frames and markers are published anew soon.
+        """
+        gone = [self._topics.pop(name) for name in set(self._topics)
+                - set(self.simulation.robot_names)]
         for name in self.simulation.robot_names:
             if name not in self._topics:
                 self._topics[name] = RobotTopics(self, self.simulation.robot(name), self.frames,
                                                  self._stamped, self._on_cmd_vel,
                                                  self._on_initial_pose)
         self._frame_publisher.entities_changed()
+        for topics in gone:
+            yield from topics.dismantle()
+        for topics in list(self._topics.values()):
+            while not topics.complete:
+                topics.make_sensor_topic()
+                yield
 
-    def restarted(self, new_time, grid=None):
+    def restart(self, new_time, grid=None):
         """
         After a reset or a new world: publish the map (grid, if new), entities and state.
 
-        new_time says whether the clock went back to 0.
+        new_time says whether the clock went back to 0. A generator, for the request's job.
         """
         if grid is not None:
             self._map_publisher.publish(grid)
-        self.sync_entities()
+        yield from self.entity_topics()
         self._publish_clock()
         self.stepper.start_over(new_time)
 

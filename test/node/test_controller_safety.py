@@ -182,7 +182,8 @@ def test_a_reset_of_the_robot_under_a_lockstep_run_ends_it_in_a_clear_line(
     simulator, controller = lockstep_run(ros_context, executor, tmp_path)
     steps = simulator.simulation.step_count
     simulator.simulation.reset(time=False, state=True, spawned=True)
-    simulator.restarted(new_time=False)
+    for _ in simulator.restart(new_time=False):
+        pass
     executor.spin_until_future_complete(controller.finished, timeout_sec=10.0)
     assert controller.finished.result() == 1
     assert simulator.simulation.step_count > steps

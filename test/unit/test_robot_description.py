@@ -88,6 +88,13 @@ def edited(path_and_value):
     ((('sensors', 'lasers', 0, 'frame_id'), 'laser 0'), 'sensors.lasers[0].frame_id: expected '
      'a ROS name'),
     ((('initial_pose', 'theta'), float('nan')), 'initial_pose.theta: expected a finite number'),
+    ((('sensors', 'lasers', 0, 'frame_id'), 'odom'),
+     "sensors.lasers[0].frame_id: 'odom' names one of the robot topics"),
+    ((('sensors', 'sonars', 0, 'frame_id'), 'laser_0'),
+     "sensors.sonars[0].frame_id: 'laser_0' is the frame_id of sensors.lasers[0] too"),
+    ((('sensors', 'sonars'), [{'frame_id': f'sonar_{k}', 'cone_angle': 0.5, 'min_range': 0.1,
+                               'max_range': 3, 'frequency': 10} for k in range(33)]),
+     'sensors: 34 sensors; a robot carries at most 32'),
 ])
 def test_bad_robot_is_one_line_naming_the_key(change, message):
     with pytest.raises(RobotFileError) as raised:

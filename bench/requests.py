@@ -1,0 +1,175 @@
+"""
+Measure how long requests hold the simulation back (a benchmark, not a test).
+
+stdr_lite runs as a process of its own at rate_hz 50 and real time, so /clock comes every
+20 ms. This process listens to /clock and sends bursts of the largest requests the simulator
+accepts: spawns of 16 KB robot descriptions, entity filters with 1000-point convex hulls, a
+folder of 200 spawnable files of 16 KB, and a world of 4096 x 4096 cells. The robots carry as
+many sensors as a robot may (32 sonars), each a topic of its own. For each burst it prints the
+longest and the 99th percentile gap between two /clock messages while the burst was served (and
+the same for a while with no requests, to compare), and how long the burst took: medians of
+--repeat runs. A new world stands STOPPED with its clock back at 0: the gaps of a world loading
+are those of the old world's steps while the new one loads. The target: no gap beyond one step
+period plus a few milliseconds.
+"""
+
+import argparse
+import math
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+from tempfile import TemporaryDirectory
+import time
+
+from bench.realtime import keep_dds_on_loopback, ros_session, spin_until
+from geometry_msgs.msg import PoseStamped
+import numpy as np
+from PIL import Image
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.time import Time
+from rosgraph_msgs.msg import Clock
+from simple_robot_control.input_files import MAX_DESCRIPTION_BYTES
+from simple_robot_control.pose import set_pose
+from simulation_interfaces.msg import Bounds, EntityFilters
+from simulation_interfaces.srv import GetEntities, GetSpawnables, LoadWorld, SpawnEntity
+from stdr_lite.core.robot_description import MAX_SENSORS
+
+PERIOD = 0.02
+SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+SONAR = ('    - {{frame_id: sonar_{}, cone_angle: 0.5, min_range: 0.1, max_range: 3, '
+         'frequency: 10}}\n')
+
+
+def largest_description():
+    """Return a robot with as many sonars as it may carry, padded to the largest size accepted."""
+    text = 'footprint: {radius: 0.2}\nsensors:\n  sonars:\n' + ''.join(
+        SONAR.format(index) for index in range(MAX_SENSORS))
+    padding = '# ' + 'x' * 76 + '\n'
+    return text + padding * ((MAX_DESCRIPTION_BYTES - len(text)) // len(padding))
+
+
+def pose(x, y):
+    message = PoseStamped()
+    set_pose(message.pose, float(x), float(y), 0.0)
+    return message
+
+
+class Client(Node):
+    """Listens to /clock and calls the simulator's services."""
+
+    def __init__(self, context):
+        super().__init__('request_bench', context=context)
+        self.arrivals = []
+        self.create_subscription(Clock, '/clock', self._on_clock, 1000)
+        self._callers = {}
+
+    def call_all(self, executor, kind, service, requests):
+        """Send every request at once; wait for every answer; return the seconds it took."""
+        if service not in self._callers:
+            client = self.create_client(kind, f'/stdr_lite/{service}', qos_profile=SERVICE_QOS)
+            spin_until(executor, client.service_is_ready, timeout=30.0)
+            self._callers[service] = client
+        started = time.monotonic()
+        futures = [self._callers[service].call_async(request) for request in requests]
+        spin_until(executor, lambda: all(future.done() for future in futures))
+        return time.monotonic() - started
+
+    def _on_clock(self, message):
+        self.arrivals.append((time.monotonic(), Time.from_msg(message.clock).nanoseconds))
+
+    def gaps(self, since, until):
+        """
+        Return the gaps between /clock messages from since to until, in one world.
+
+        A new world restarts the clock at 0 and stands STOPPED: what comes after is not the
+        simulation held back, and is left out.
+        """
+        times, last = [], -1
+        for moment, stamp in self.arrivals:
+            if since <= moment <= until:
+                if stamp < last:
+                    break
+                times.append(moment)
+                last = stamp
+        return np.diff(times) if len(times) > 2 else np.array([math.nan])
+
+
+def bursts(folder):
+    """Return (label, service type, service name, requests) of every burst, in order."""
+    description = largest_description()
+    for index in range(200):
+        (folder / 'spawnables' / f'robot{index:03d}.yaml').write_text(description)
+    hull = Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
+        pose(10 + 5 * math.cos(k / 160), 7 + 5 * math.sin(k / 160)).pose.position
+        for k in range(1000)])
+    return [
+        ('50 spawns of 32 sonars', SpawnEntity, 'spawn_entity', [SpawnEntity.Request(
+            name=f'bot{k}', resource_string=description, initial_pose=pose(
+                3 + k % 15, 4 + 0.5 * (k // 15))) for k in range(50)]),
+        ('50 hull filters', GetEntities, 'get_entities', [GetEntities.Request(
+            filters=EntityFilters(filter='^bot', bounds=hull)) for _ in range(50)]),
+        ('200 files of spawnables', GetSpawnables, 'get_spawnables', [
+            GetSpawnables.Request(sources=[str(folder / 'spawnables')])]),
+        ('a 4096x4096 world', LoadWorld, 'load_world', [LoadWorld.Request(
+            uri=str(folder / 'big.yaml'))]),
+    ]
+
+
+def write_big_world(folder):
+    pixels = np.full((4096, 4096), 254, dtype=np.uint8)
+    pixels[::64, :] = pixels[:, ::64] = 0
+    pixels[:200, :200] = 254
+    Image.fromarray(pixels).save(folder / 'big.pgm')
+    (folder / 'big.yaml').write_text('image: big.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n')
+
+
+def measure_once(folder):
+    """Run the simulator and every burst once; return {label: (longest, p99, seconds)}."""
+    simulator = subprocess.Popen(
+        [os.path.join(os.path.dirname(sys.executable), 'stdr_lite'), '--ros-args',
+         '--log-level', 'warn'])
+    figures = {}
+    try:
+        with ros_session() as (context, executor):
+            client = Client(context)
+            executor.add_node(client)
+            spin_until(executor, lambda: len(client.arrivals) > 50, timeout=60.0)
+            quiet_from = time.monotonic()
+            spin_until(executor, lambda: time.monotonic() > quiet_from + 2.0)
+            gaps = client.gaps(quiet_from, time.monotonic())
+            figures['no requests'] = (gaps.max(), np.percentile(gaps, 99), 2.0)
+            for label, kind, service, requests in bursts(folder):
+                started = time.monotonic()
+                seconds = client.call_all(executor, kind, service, requests)
+                gaps = client.gaps(started, time.monotonic())
+                figures[label] = (gaps.max(), np.percentile(gaps, 99), seconds)
+    finally:
+        simulator.send_signal(signal.SIGINT)
+        simulator.wait(timeout=30)
+    return figures
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog='bench.requests', description=__doc__.split('\n')[1])
+    parser.add_argument('--repeat', type=int, default=3)
+    args = parser.parse_args(argv)
+    keep_dds_on_loopback()
+    with TemporaryDirectory() as directory:
+        folder = Path(directory)
+        (folder / 'spawnables').mkdir()
+        write_big_world(folder)
+        runs = [measure_once(folder) for _ in range(args.repeat)]
+    print(f'gaps between /clock messages of stdr_lite at 50 Hz (a step is {PERIOD * 1e3:.0f} ms) '
+          f'while a burst of requests is served; medians of {args.repeat} runs')
+    print(f'{"burst":26} {"longest gap":>12} {"p99 gap":>9} {"served in":>10}')
+    for label in runs[0]:
+        longest, p99, seconds = (np.median([run[label][part] for run in runs])
+                                 for part in range(3))
+        print(f'{label:26} {longest * 1e3:9.1f} ms {p99 * 1e3:6.1f} ms {seconds:8.2f} s')
+
+
+if __name__ == '__main__':
+    main()
