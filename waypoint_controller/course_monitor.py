@@ -21,7 +21,7 @@ from simple_robot_control.input_files import output_problem
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
-from simple_robot_control.validation import describe
+from simple_robot_control.validation import shorten
 from std_msgs.msg import String
 from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
 from waypoint_controller.run_record import RunRecordWriter, StatusClock
@@ -97,7 +97,7 @@ class CourseMonitor(GuardedNode):
                               and not status.number <= self._total):
             # Some other node spoke on robot_status: say so, and keep it out of the record.
             self._clear_progress()
-            self._write(f'(not a status of this course: {describe(text)})\n')
+            self._write(f'(not a status of this course: {shorten(repr(text), 80)})\n')
             return
         kind = status.kind
         date = self._clock.date(text)

@@ -2,13 +2,17 @@
 
 import math
 
+from nav_msgs.msg import Odometry
 import numpy as np
 from PIL import Image
 import pytest
-from ros_helpers import overrides
+from rclpy.node import Node
+from ros_helpers import overrides, spin_until, wait_for_subscribers
 from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import BUNDLED_MAP, shared_file
+from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
+from waypoint_controller.course import status_qos
 from waypoint_controller.course_monitor import CourseMonitor
 from waypoint_controller.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
 from waypoint_controller.run_record import load_run
@@ -106,3 +110,37 @@ def test_plot_run_writes_the_png_exactly_where_it_is_told(recorded_run):
     assert plot_run([str(record_path), '--output', str(output)]) == 0
     assert output.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     assert not output.with_suffix('.png').exists()
+
+
+def test_the_monitor_keeps_what_is_no_status_out_of_the_record(ros_context, executor, tmp_path):
+    course, record = tmp_path / 'course.txt', tmp_path / 'run.jsonl'
+    course.write_text(COURSE)
+    output = []
+    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
+                            context=ros_context,
+                            parameter_overrides=overrides(record_file=str(record)))
+    speaker = Node('speaker', context=ros_context)
+    status = speaker.create_publisher(String, 'robot_status', status_qos(2))
+    odometry = speaker.create_publisher(Odometry, '/robot0/odom', 10)
+    for node in (monitor, speaker):
+        executor.add_node(node)
+    wait_for_subscribers(executor, status)
+    wait_for_subscribers(executor, odometry)
+    broken = Odometry()
+    broken.pose.pose.position.x = math.nan
+    odometry.publish(broken)
+    texts = ['hello \x1b[2J from another node', 'WAYPOINT -1 1 2 3', 'STARTED nan nan nan',
+             'WAYPOINT 3 1.000 2.000 0.00', 'x' * 1_000_000, 'STARTED 1.000 2.000 0.00',
+             'ABORTED 1 1.000 2.000 0.00']
+    for count, text in enumerate(texts, start=1):
+        status.publish(String(data=text))
+        spin_until(executor, lambda: len(output) >= count, what=f'the monitor on {text[:20]}')
+    executor.spin_until_future_complete(monitor.finished, timeout_sec=10.0)
+    assert monitor.finished.result() == 1
+    monitor.shut_down()
+    printed = ''.join(output)
+    assert printed.count('(not a status of this course: ') == 5
+    assert '\x1b' not in printed and len(printed) < 2000
+    kept = load_run(record)
+    assert [text for _, text in kept.statuses] == texts[-2:]
+    assert kept.poses == []
