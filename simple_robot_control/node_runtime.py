@@ -16,6 +16,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 from rclpy.utilities import get_default_context, remove_ros_args
+from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
 
 SIGNAL_CHECK_PERIOD = 0.1
@@ -44,8 +45,8 @@ def build_parser(prog, description, specs):
     epilog = '\n'.join(['ROS parameters (set with --ros-args -p name:=value; read-only unless '
                         'marked tunable, which `ros2 param set` may change while running):']
                        + [spec.help_line() for spec in specs])
-    return argparse.ArgumentParser(prog=prog, description=description, epilog=epilog,
-                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    return OneLineParser(prog=prog, description=description, epilog=epilog,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
 def run(prog, parser, make_node, argv=None):

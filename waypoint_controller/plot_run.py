@@ -5,7 +5,6 @@ Figures are built with matplotlib's object API and the Agg canvas, never pyplot,
 or GUI toolkit is involved and nothing global is left behind.
 """
 
-import argparse
 import math
 import os
 import sys
@@ -16,6 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.transforms import Affine2D
 import numpy as np
+from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.input_files import output_problem
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, shared_file
@@ -138,7 +138,7 @@ def _draw_footprints(axes, record, robot_radius):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog='plot_run', description='Draw a run recorded by course_monitor (its record_file '
         'parameter) as a PNG: the map, the path coloured by time, each waypoint with its goal '
         'circle and heading, the poses reported on robot_status, and the footprint at start '

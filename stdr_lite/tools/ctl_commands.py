@@ -10,6 +10,7 @@ from typing import Callable
 
 from rclpy.exceptions import InvalidServiceNameException
 from rclpy.validate_full_topic_name import validate_full_topic_name
+from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.pose import pose_from_message, set_pose
 from simple_robot_control.validation import describe, parse_decimal
 from simulation_interfaces.action import SimulateSteps
@@ -259,7 +260,7 @@ COMMANDS = {
 
 
 def build_arguments() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog='stdr_ctl', description=DESCRIPTION)
+    parser = OneLineParser(prog='stdr_ctl', description=DESCRIPTION)
     parser.add_argument('--simulator', default='/stdr_lite', type=simulator_name,
                         help='the simulator node whose services to call (default /stdr_lite)')
     parser.add_argument('--timeout', type=timeout, default=10.0,

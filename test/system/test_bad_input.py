@@ -160,3 +160,13 @@ def test_course_monitor_writes_over_nothing(files, record):
                  timeout=30)
     assert_one_line_refusal(result, f'record_file {record}: ')
     assert course.read_text() == '3 2 0\n'
+
+
+@pytest.mark.parametrize('name, arguments, message', [
+    ('stdr_lite', ['surplus'], 'stdr_lite: error: unrecognized arguments: surplus'),
+    ('plot_run', [], 'plot_run: error: the following arguments are required: record'),
+    ('stdr_ctl', ['step', 'many'], 'stdr_ctl step: error: argument steps: not a whole number'),
+    ('waypoint_controller', ['a.txt', 'b.txt'], 'unrecognized arguments: b.txt'),
+])
+def test_bad_command_lines_are_one_line(name, arguments, message):
+    assert_one_line_refusal(run(name, *arguments, timeout=30), message)

@@ -21,7 +21,8 @@ def test_out_of_range_arguments_are_refused_in_one_line(capsys, arguments, words
         build_arguments().parse_args(arguments)
     assert ended.value.code == 2
     error = capsys.readouterr().err
-    assert words in error and 'Traceback' not in error
+    assert words in error and error.startswith('stdr_ctl') and ': error: ' in error
+    assert len(error.strip().splitlines()) == 1
 
 
 def test_the_largest_counts_pass():
