@@ -15,7 +15,7 @@ import os
 
 from simple_robot_control.input_files import MAX_LIST_BYTES, read_yaml
 from simple_robot_control.validation import (Bounds, compact, describe, FINITE, is_finite_number,
-                                             is_ros_name, ROS_NAME_RULE)
+                                             is_ros_name, ROS_NAME_RULE, shorten)
 
 
 # What a description may hold: generous for any small robot, finite everywhere, so a typo such
@@ -267,7 +267,8 @@ def robot_entry(item: object, default_name: str, default_description: RobotDescr
     item = reader.mapping(item if item is not None else {}, where)
     unknown = sorted(set(item) - {'name', 'description', 'pose'})
     if unknown:
-        reader.fail(where, f'unknown keys {unknown}; expected name, description, pose')
+        reader.fail(where, f'unknown keys {shorten(str(unknown))}; expected name, description, '
+                    'pose')
     name = reader.name(item, 'name', where, default_name)
     description = default_description
     if 'description' in item:

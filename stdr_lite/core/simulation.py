@@ -16,7 +16,7 @@ from typing import Iterable
 
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
-from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
+from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
 from stdr_lite.core.commands import CommandBuffer, CommandOutcome
 from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
@@ -109,7 +109,7 @@ class Simulation(SimulationQueries):
         self._check_new_name(entry.name)
         namespace = namespace.strip('/') or entry.name
         if not all(is_ros_name(token) for token in namespace.split('/')):
-            raise NamespaceError(f'namespace {namespace!r} is not a ROS namespace')
+            raise NamespaceError(f'namespace {shorten(repr(namespace))} is not a ROS namespace')
         taken = [entity.name for entity in self._entities if entity.namespace == namespace]
         if taken:
             raise NamespaceError(f'namespace {namespace} is taken by {taken[0]}')
@@ -137,7 +137,7 @@ class Simulation(SimulationQueries):
         if problem is not None:
             raise RequestError(problem)
         if name in self._indices:
-            raise RequestError(f'an entity named {name} exists already')
+            raise RequestError(f'an entity named {shorten(name)} exists already')
 
     def _append(self, entity):
         with self._naming_overlaps():

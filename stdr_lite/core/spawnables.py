@@ -11,7 +11,7 @@ import os
 from urllib.parse import unquote, urlparse
 
 from simple_robot_control.input_files import parse_yaml, read_yaml
-from simple_robot_control.validation import Bounds, describe, is_finite_number
+from simple_robot_control.validation import Bounds, describe, is_finite_number, shorten
 from stdr_lite.core.robot_description import parse_robot, RobotDescription, RobotFileError
 
 ROBOT_FORMAT = 'stdr_robot_yaml'
@@ -48,9 +48,9 @@ def path_of(uri: str, bundled: dict) -> str:
     if parsed.scheme == 'file':
         return unquote(parsed.path)
     if parsed.scheme:
-        raise SpawnResourceError('unsupported_format', f'{uri}: only file paths, file:// URIs '
-                                 f'and the bundled spawnables ({", ".join(sorted(bundled))}) '
-                                 'can be spawned')
+        raise SpawnResourceError('unsupported_format', f'{shorten(uri)}: only file paths, '
+                                 'file:// URIs and the bundled spawnables '
+                                 f'({", ".join(sorted(bundled))}) can be spawned')
     return uri
 
 
@@ -60,10 +60,10 @@ def load_resource(uri: str, resource_string: str,
     if uri:
         path = path_of(uri, bundled)
         if not path.endswith(('.yaml', '.yml')):
-            raise SpawnResourceError('unsupported_format', f'{uri}: spawn formats are '
+            raise SpawnResourceError('unsupported_format', f'{shorten(uri)}: spawn formats are '
                                      f'{" and ".join(SPAWN_FORMATS)} (YAML files)')
         if not os.path.exists(path):
-            raise SpawnResourceError('missing_assets', f'{uri}: no such file')
+            raise SpawnResourceError('missing_assets', f'{shorten(uri)}: no such file')
         try:
             return parse_resource(read_yaml(path, 'spawn resource', RobotFileError), path)
         except RobotFileError as error:
@@ -90,7 +90,7 @@ def _obstacle(data, source):
     fields = data['obstacle']
     unknown = sorted(set(fields) - {'radius', 'moving'})
     if unknown:
-        raise RobotFileError(f'{source}: obstacle: unknown keys {unknown}; expected radius, '
+        raise RobotFileError(f'{source}: obstacle: unknown keys {shorten(str(unknown))}; expected radius, '
                              'moving')
     radius = fields.get('radius')
     if not is_finite_number(radius) or not OBSTACLE_RADIUS.contains(radius):

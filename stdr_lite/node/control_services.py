@@ -16,6 +16,7 @@ from simple_robot_control.input_files import is_regular_file, yaml_files
 from simple_robot_control.occupancy_map import (load_map, MapError, MapImageError,
                                                 MapTooLargeError)
 from simple_robot_control.share import bundled_files
+from simple_robot_control.validation import shorten
 from simulation_interfaces.action import SimulateSteps
 from simulation_interfaces.msg import (Resource, Result, SimulationState, SimulatorFeatures,
                                        WorldResource)
@@ -222,9 +223,9 @@ class SimulationControl:
             raise Refusal(response.UNSUPPORTED_FORMAT, str(error)) from None
         if not path.endswith(('.yaml', '.yml')):
             raise Refusal(response.UNSUPPORTED_FORMAT,
-                          f'{request.uri}: worlds are map_server YAML files')
+                          f'{shorten(request.uri)}: worlds are map_server YAML files')
         if not os.path.exists(path):
-            raise Refusal(Result.RESULT_NOT_FOUND, f'{request.uri}: no such file')
+            raise Refusal(Result.RESULT_NOT_FOUND, f'{shorten(request.uri)}: no such file')
         simulation = self._node.simulation
         # Reading the map and deriving its distance fields takes seconds for a large one: a
         # thread does it while the current world steps on; the switch itself is immediate.

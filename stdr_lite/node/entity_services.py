@@ -16,7 +16,7 @@ import regex
 from simple_robot_control.input_files import yaml_files
 from simple_robot_control.pose import planar_pose, set_pose
 from simple_robot_control.share import bundled_files, shared_file
-from simple_robot_control.validation import compact, is_ros_name, ros_name_problem
+from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
 from simulation_interfaces.msg import (Bounds, EntityCategory, EntityInfo, EntityState, Result,
                                        SimulationState, Spawnable, SpawnResult, TagsFilter)
 from simulation_interfaces.srv import (DeleteEntity, GetEntities, GetEntitiesStates,
@@ -140,14 +140,14 @@ class EntityServices:
             raise Refusal(SpawnResult.NAME_INVALID, ros_name_problem(name, 'the name'))
         if name in self._simulation:
             if not allow_renaming:
-                raise Refusal(SpawnResult.NAME_NOT_UNIQUE, f'an entity named {name} exists')
+                raise Refusal(SpawnResult.NAME_NOT_UNIQUE, f'an entity named {shorten(name)} exists')
             return self._simulation.default_name(f'{name}_')
         return name
 
     def _pose(self, frame_id, pose, invalid):
         if frame_id not in ('', 'world', self._node.frames.map_frame):
             raise Refusal(invalid, f'poses are in the {self._node.frames.map_frame} frame '
-                          f'(or world), not {frame_id!r}')
+                          f'(or world), not {shorten(repr(frame_id))}')
         try:
             return planar_pose(pose)
         except ValueError as error:
@@ -161,7 +161,7 @@ class EntityServices:
 
     def _entity(self, name):
         if name not in self._simulation:
-            raise Refusal(Result.RESULT_NOT_FOUND, f'no entity named {name!r}')
+            raise Refusal(Result.RESULT_NOT_FOUND, f'no entity named {shorten(repr(name))}')
         return self._simulation.entity(name)
 
     def _entities(self, request, response):
@@ -260,15 +260,15 @@ def _name_filter(pattern):
         compiled = regex.compile(pattern)
     except regex.error as error:
         raise Refusal(Result.RESULT_OPERATION_FAILED,
-                      f'filter {compact(pattern)} is no regular expression: {error}') from None
+                      f'filter {shorten(repr(pattern))} is no regular expression: {error}') from None
 
     def matches(name):
         try:
             return compiled.search(name, timeout=MATCH_TIME) is not None
         except TimeoutError:
             raise Refusal(Result.RESULT_OPERATION_FAILED,
-                          f'filter {compact(pattern)} took over {MATCH_TIME * 1e3:g} ms to match '
-                          f'one name ({compact(name)}): it backtracks without end; simplify '
+                          f'filter {shorten(repr(pattern))} took over {MATCH_TIME * 1e3:g} ms to match '
+                          f'one name ({shorten(name)}): it backtracks without end; simplify '
                           'it') from None
     return matches
 
