@@ -90,8 +90,8 @@ def _obstacle(data, source):
     fields = data['obstacle']
     unknown = sorted(set(fields) - {'radius', 'moving'})
     if unknown:
-        raise RobotFileError(f'{source}: obstacle: unknown keys {shorten(str(unknown))}; expected radius, '
-                             'moving')
+        raise RobotFileError(f'{source}: obstacle: unknown keys {shorten(str(unknown))}; '
+                             'expected radius, moving')
     radius = fields.get('radius')
     if not is_finite_number(radius) or not OBSTACLE_RADIUS.contains(radius):
         raise RobotFileError(f'{source}: obstacle.radius must be {OBSTACLE_RADIUS.text()} m, '

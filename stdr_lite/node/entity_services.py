@@ -140,7 +140,8 @@ class EntityServices:
             raise Refusal(SpawnResult.NAME_INVALID, ros_name_problem(name, 'the name'))
         if name in self._simulation:
             if not allow_renaming:
-                raise Refusal(SpawnResult.NAME_NOT_UNIQUE, f'an entity named {shorten(name)} exists')
+                raise Refusal(SpawnResult.NAME_NOT_UNIQUE,
+                              f'an entity named {shorten(name)} exists')
             return self._simulation.default_name(f'{name}_')
         return name
 
