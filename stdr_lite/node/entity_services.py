@@ -257,20 +257,20 @@ def _name_filter(pattern):
     if len(pattern) > MAX_FILTER_LENGTH:
         raise Refusal(Result.RESULT_OPERATION_FAILED, f'a filter of {len(pattern)} characters; '
                       f'at most {MAX_FILTER_LENGTH}')
+    shown = shorten(repr(pattern))
     try:
         compiled = regex.compile(pattern)
     except regex.error as error:
         raise Refusal(Result.RESULT_OPERATION_FAILED,
-                      f'filter {shorten(repr(pattern))} is no regular expression: {error}') from None
+                      f'filter {shown} is no regular expression: {error}') from None
 
     def matches(name):
         try:
             return compiled.search(name, timeout=MATCH_TIME) is not None
         except TimeoutError:
             raise Refusal(Result.RESULT_OPERATION_FAILED,
-                          f'filter {shorten(repr(pattern))} took over {MATCH_TIME * 1e3:g} ms to match '
-                          f'one name ({shorten(name)}): it backtracks without end; simplify '
-                          'it') from None
+                          f'filter {shown} took over {MATCH_TIME * 1e3:g} ms to match one name '
+                          f'({shorten(name)}): it backtracks without end; simplify it') from None
     return matches
 
 
