@@ -75,7 +75,8 @@ def test_features_worlds_and_spawnables_are_listed(simulator):
 def test_bad_arguments_exit_2_without_asking(args):
     answer = ctl(*args)
     assert answer.returncode == 2
-    assert 'usage: stdr_ctl' in answer.stderr and 'Traceback' not in answer.stderr
+    assert answer.stderr.startswith('stdr_ctl') and ': error: ' in answer.stderr
+    assert len(answer.stderr.strip().splitlines()) == 1 and 'Traceback' not in answer.stderr
 
 
 def test_no_simulator_answering_is_exit_code_1():
