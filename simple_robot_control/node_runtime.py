@@ -70,14 +70,13 @@ def run(prog, parser, make_node, argv=None):
     for signal_number in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signal_number, ending.on_signal)
     _watch_for_signals()
-    try:
-        rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    except rclpy_implementation.RCLError as error:
-        print(f'{prog}: error: cannot start ROS: {rcl_problem(error)}', file=sys.stderr)
-        return EXIT_BAD_INPUT
     node = executor = None
     code, leave_endpoints = EXIT_OK, False
     try:
+        try:
+            rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+        except rclpy_implementation.RCLError as error:
+            raise ConfigError(f'cannot start ROS: {rcl_problem(error)}') from None
         try:
             node = make_node(options)
         except NameValidationException as error:
@@ -95,7 +94,9 @@ def run(prog, parser, make_node, argv=None):
     except ExternalShutdownException:
         code = EXIT_OK
     except _Interrupted:
-        leave_endpoints = True
+        # Stopped while starting: rclpy may be half way through its own start, so nothing of
+        # it is touched again; the process just ends.
+        _exit_now(EXIT_OK)
     finally:
         if executor is not None:
             executor.remove_node(node)
@@ -160,7 +161,7 @@ def _exit_now(code):
 
 
 class _Interrupted(BaseException):
-    """A signal came while the node was being built."""
+    """A signal came while ROS or the node was starting."""
 
 
 class _Ending:
