@@ -11,7 +11,7 @@ export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
 export ROS_STATIC_PEERS :=
 export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 
-.PHONY: demo lab-session swarm test test-unit test-node test-system bench install clean
+.PHONY: demo lab-session swarm test test-unit test-node test-system check-stdr bench install clean
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -35,6 +35,11 @@ test: install
 # One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
 test-unit test-node test-system: install
 	$(PYTHON) -m pytest test/$(@:test-%=%)
+
+# STDR's own robot files load unchanged: STDR_RESOURCES=<stdr_simulator>/stdr_resources/resources
+check-stdr: install
+	test -d "$(STDR_RESOURCES)/robots" || { echo 'check-stdr: set STDR_RESOURCES to the stdr_resources/resources folder of an stdr_simulator checkout' >&2; exit 2; }
+	STDR_RESOURCES="$(abspath $(STDR_RESOURCES))" $(PYTHON) -m pytest -q test/unit/test_stdr_release_files.py
 
 install: $(VENV)/.dependencies $(VENV)/.interfaces
 	rm -rf build

@@ -21,7 +21,9 @@ setup(
         (f'{SHARE}/maps', sorted(glob('maps/*.yaml') + glob('maps/*.pgm'))),
         (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
-        (f'{SHARE}/robots', sorted(glob('robots/*.yaml'))),
+        (f'{SHARE}/robots', sorted(glob('robots/*.yaml') + glob('robots/*.xml'))),
+        *((f'{SHARE}/{folder}', sorted(glob(f'{folder}/*.xml')))
+          for folder in sorted(glob('resources/*'))),
         (f'{SHARE}/obstacles', sorted(glob('obstacles/*.yaml'))),
         (f'{SHARE}/config', sorted(glob('config/*.yaml'))),
         (f'{SHARE}/rviz', sorted(glob('rviz/*.rviz'))),

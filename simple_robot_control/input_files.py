@@ -84,9 +84,9 @@ def is_regular_file(path) -> bool:
         return False
 
 
-def yaml_files(folder) -> tuple[list, str]:
+def yaml_files(folder, suffixes=('.yaml', '.yml')) -> tuple[list, str]:
     """
-    Return the regular YAML files of a folder, sorted, and a note of what was left out.
+    Return a folder's regular files named *.yaml (or suffixes), sorted, and what was left out.
 
     FIFOs, devices and folders named *.yaml are skipped without being opened; a folder
     larger than MAX_FOLDER_ENTRIES or MAX_FOLDER_FILES is read that far.
@@ -100,7 +100,7 @@ def yaml_files(folder) -> tuple[list, str]:
                     note = (f'{folder}: only its first {MAX_FOLDER_ENTRIES:,} entries were '
                             f'looked at, taking at most {MAX_FOLDER_FILES:,} files')
                     return sorted(found), note
-                if entry.name.endswith(('.yaml', '.yml')) and entry.is_file():
+                if entry.name.endswith(suffixes) and entry.is_file():
                     found.append(entry.path)
     except OSError as error:
         return [], f'{folder}: cannot read it: {error.strerror}'

@@ -11,14 +11,16 @@ from dataclasses import dataclass
 import difflib
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
-from rclpy.exceptions import ParameterException
+from rclpy.exceptions import ParameterException, ParameterUninitializedException
 from rclpy.parameter import Parameter
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.validation import Bounds, compact, is_finite_number, ros_name_problem
 
+# A list default is a list of doubles, a tuple one of strings (an empty one has no type of its
+# own in rclpy, so a string-array parameter is declared by its type and read as empty unset).
 _TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
           float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING,
-          list: ParameterType.PARAMETER_DOUBLE_ARRAY}
+          list: ParameterType.PARAMETER_DOUBLE_ARRAY, tuple: ParameterType.PARAMETER_STRING_ARRAY}
 # What rclpy itself declares or reads on every node, besides the node's own parameters.
 _RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
 _RCLPY_PREFIXES = ('qos_overrides.',)
@@ -82,7 +84,8 @@ class ParameterSpec:
         return parameter
 
     def help_line(self) -> str:
-        default = self.default if self.default != '' else "''"
+        default = (list(self.default) if isinstance(self.default, tuple)
+                   else self.default if self.default != '' else "''")
         constraints = self.constraint_text()
         extra = ', '.join(part for part in (constraints, 'tunable' if self.tunable else '')
                           if part)
@@ -105,18 +108,30 @@ def declare_parameters(node, specs):
         if spec.name in overrides:
             overrides[spec.name] = spec.as_declared_type(overrides[spec.name])
         try:
-            node.declare_parameter(spec.name, spec.default, spec.descriptor())
-            value = node.get_parameter(spec.name).value
+            value = _declared(node, spec)
         except ParameterException as error:
             raise ConfigError(f'parameter {spec.name}: {error} (expected a '
                               f'{type(spec.default).__name__})') from None
-        value = list(value) if isinstance(spec.default, list) else value
+        value = type(spec.default)(value) if isinstance(spec.default, (list, tuple)) else value
         problem = spec.problem(value)
         if problem is not None:
             raise ConfigError(problem)
         values[spec.name] = value
     _refuse_unknown(node.get_name(), overrides, [spec.name for spec in specs])
     return values
+
+
+def _declared(node, spec):
+    """Declare spec on node and return its value."""
+    if isinstance(spec.default, tuple):
+        node.declare_parameter(spec.name, Parameter.Type.STRING_ARRAY, spec.descriptor())
+        try:
+            value = node.get_parameter(spec.name).value
+        except ParameterUninitializedException:
+            return spec.default
+        return spec.default if value is None else value
+    node.declare_parameter(spec.name, spec.default, spec.descriptor())
+    return node.get_parameter(spec.name).value
 
 
 def _refuse_unknown(node_name, given, known):

@@ -8,6 +8,8 @@ PACKAGE_NAME = 'simple_robot_control'
 BUNDLED_MAP = ('maps', 'lab_room.yaml')
 BUNDLED_ROBOT = ('robots', 'lab_robot.yaml')
 BUNDLED_COURSE = ('waypoints', 'lab_tour.txt')
+# Files robot files may include by name, in STDR's layout (laser_sensors/, range_sensors/).
+BUNDLED_RESOURCES = ('resources',)
 
 
 def share_directory() -> str:
@@ -45,7 +47,8 @@ def shared_file(*parts: str) -> str:
 
 
 def bundled_files(*folders: str) -> dict:
-    """Return the YAML files installed in share folders by name (file name less .yaml)."""
-    paths = sorted((path for folder in folders
-                    for path in glob.glob(shared_file(folder, '*.yaml'))), key=os.path.basename)
+    """Return the YAML and XML files installed in share folders by name (less the suffix)."""
+    paths = sorted((path for folder in folders for suffix in ('yaml', 'xml')
+                    for path in glob.glob(shared_file(folder, f'*.{suffix}'))),
+                   key=os.path.basename)
     return {os.path.splitext(os.path.basename(path))[0]: path for path in paths}

@@ -39,9 +39,9 @@ def start(name, *args, **popen_options):
                             **popen_options)
 
 
-def run(name, *args, stdin_text=None, timeout=60):
+def run(name, *args, stdin_text=None, timeout=60, cwd=None):
     return subprocess.run([executable(name), *args], input=stdin_text, capture_output=True,
-                          text=True, timeout=timeout, env=dict(os.environ))
+                          text=True, timeout=timeout, env=dict(os.environ), cwd=cwd)
 
 
 def interrupt(process, timeout=15, signal_number=signal.SIGINT):

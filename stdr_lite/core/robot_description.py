@@ -1,31 +1,47 @@
 """
-Robot descriptions in STDR's robot YAML format: footprint, initial pose, lasers and sonars.
+Robot descriptions: footprint, kinematics, initial pose, lasers and sonars, in STDR's layouts.
 
-The format is the one STDR's GUI saves and its bundled robots use (pandora_robot.yaml,
-khepera2.yaml): top-level initial_pose {x, y, theta}, footprint {radius, points},
-kinematic, and sensors {lasers: [...], sonars: [...], rfids: [...]}. A laser has min_angle,
-max_angle, min_range, max_range, num_rays, frequency, frame_id, pose {x, y, theta} and noise
-{mean, std}; a sonar has cone_angle instead of the angles and rays. Lengths are metres,
-angles radians, frequencies hertz.
+A robot file is in one of STDR's layouts, its nested YAML (`robot: robot_specifications: [...]`)
+or its XML, both with files included by name (stdr_format.py), or in the flat YAML layout below.
+Every layout reaches parse_robot as the flat one, so one set of rules checks them all:
+
+    initial_pose: {x, y, theta}
+    footprint: {radius: m, points: [[x, y], ...]}        # points make a polygon, else a circle
+    kinematic: {model: ideal | omni, parameters: {a_ux_ux: ..., a_g_w: ...}}
+    sensors:
+      lasers: [{frame_id, pose: {x, y, theta}, min_angle, max_angle, min_range, max_range,
+                num_rays, frequency, noise: {mean, std}}, ...]
+      sonars: [{frame_id, pose, cone_angle, min_range, max_range, frequency, noise}, ...]
+      rfid_readers, co2_sensors, thermal_sensors, sound_sensors: [{frame_id}, ...]
+
+Lengths are metres, angles radians, frequencies hertz. The sensors STDR knows but stdr_lite does
+not simulate are kept by name (unsimulated), never refused and never dropped without a word.
 """
 
 from dataclasses import dataclass
 import math
 import os
 
-from simple_robot_control.input_files import MAX_LIST_BYTES, read_yaml
-from simple_robot_control.validation import (Bounds, compact, describe, FINITE, is_finite_number,
-                                             is_ros_name, ROS_NAME_RULE, shorten)
-
+from simple_robot_control.input_files import MAX_DESCRIPTION_BYTES, parse_yaml, read_text
+from simple_robot_control.pose import wrap_angle
+from simple_robot_control.validation import Bounds, compact, FINITE
+from stdr_lite.core.fields import FieldReader, RobotFileError
+from stdr_lite.core.footprints import polygon_problem
+from stdr_lite.core.stdr_format import (flat_from_xml, flat_from_yaml, is_stdr_layout,
+                                        KINEMATIC_PARAMETERS, StdrFileError)
 
 # What a description may hold: generous for any small robot, finite everywhere, so a typo such
 # as a frequency of 1e12 is refused where it is read rather than failing in a later step.
 MAX_RADIUS = 5.0
 RADIUS = Bounds(0.0, MAX_RADIUS, low_open=True)
+FOOTPRINT_POINT = Bounds(-MAX_RADIUS, MAX_RADIUS)
+MAX_POLYGON_POINTS = 64
 MOUNT_OFFSET = Bounds(-10.0, 10.0)
 HEADING = Bounds(-2.0 * math.pi, 2.0 * math.pi)
 POSITION = Bounds(-1e6, 1e6)
-LASER_ANGLE = Bounds(-math.pi, math.pi)
+# A laser spans at most a turn, anywhere in two turns either way (0 to 2*pi, as TurtleBot3's).
+LASER_ANGLE = Bounds(-2.0 * math.pi, 2.0 * math.pi)
+FULL_TURN = 2.0 * math.pi + 1e-9
 CONE_ANGLE = Bounds(0.0, math.pi, low_open=True)
 MIN_RANGE = Bounds(0.0, 1000.0)
 MAX_RANGE = Bounds(0.0, 1000.0, low_open=True)
@@ -33,16 +49,17 @@ RAYS = Bounds(1, 10000)
 FREQUENCY = Bounds(0.001, 1000.0)
 NOISE_MEAN = Bounds(-1.0, 1.0)
 NOISE_STD = Bounds(0.0, 1.0)
+MOTION_NOISE = Bounds(0.0, 100.0)
+KINEMATIC_MODELS = ('ideal', 'omni')
 # Each sensor is a topic of its own, and endpoints are what a swarm costs most: twice the
 # sensors of STDR's most equipped robot (khepera3, 14).
 MAX_SENSORS = 32
 # A robot's own topics, /<robot>/<name>: a sensor's topic is /<robot>/<frame_id>, so no sensor
 # may take one of these names.
 ROBOT_TOPICS = ('cmd_vel', 'odom', 'ground_truth', 'initialpose')
-
-
-class RobotFileError(ValueError):
-    """A robot description that cannot be used; the message is one line naming file and key."""
+# The sensors STDR has that stdr_lite does not simulate, by their flat key and their name.
+UNSIMULATED_KINDS = {'rfid_readers': 'rfid_reader', 'co2_sensors': 'co2_sensor',
+                     'thermal_sensors': 'thermal_sensor', 'sound_sensors': 'sound_sensor'}
 
 
 @dataclass(frozen=True)
@@ -78,30 +95,79 @@ class SonarSpec:
 
 
 @dataclass(frozen=True)
+class Kinematic:
+    """
+    How commands move the robot: STDR's ideal (a unicycle) or omni model, and its motion noise.
+
+    parameters are STDR's a_<row>_<column> (rows ux, uy, w, g; columns ux, uy, w), in the order
+    of KINEMATIC_PARAMETERS: each command's u_x is taken as u_x + N(0, a_ux_ux u_x^2 + a_ux_uy
+    u_y^2 + a_ux_w w^2), and likewise u_y, w and an extra turn g.
+    """
+
+    model: str = 'ideal'
+    parameters: tuple = (0.0,) * len(KINEMATIC_PARAMETERS)
+
+    @property
+    def noisy(self) -> bool:
+        return any(self.parameters)
+
+
+@dataclass(frozen=True)
 class RobotDescription:
+    """
+    A robot's footprint, sensors and kinematics.
+
+    radius is the footprint's: the circle's, or for a polygon (points, in the robot's frame)
+    the distance from the robot's centre to its farthest corner.
+    """
+
     radius: float
     initial_pose: tuple
     lasers: tuple = ()
     sonars: tuple = ()
+    points: tuple = ()
+    kinematic: Kinematic = Kinematic()
+    unsimulated: tuple = ()
 
 
-def load_robot(path: str | os.PathLike) -> 'RobotDescription':
-    """Read and check an STDR robot YAML file."""
+def load_robot(path: str | os.PathLike, search_path: tuple = ()) -> RobotDescription:
+    """Read and check a robot file in any of its layouts (.xml, or YAML nested or flat)."""
     path = os.fspath(path)
-    return parse_robot(read_yaml(path, 'robot file', RobotFileError), path)
+    text = read_text(path, 'robot file', RobotFileError, MAX_DESCRIPTION_BYTES)
+    return parse_robot_text(text, path, search_path, in_file=True)
 
 
-def parse_robot(data: object, source: str = '<robot>') -> 'RobotDescription':
-    """Check a robot description already read from YAML; return a RobotDescription."""
-    reader = _Reader(source)
-    if isinstance(data, dict) and 'robot' in data:
-        reader.fail('robot', "STDR's nested robot_specifications format is not supported; "
-                    'use the flat format (initial_pose, footprint, sensors)')
+def parse_robot_text(text: str, source: str, search_path: tuple = (),
+                     in_file: bool = False) -> RobotDescription:
+    """Read a robot description from text in any layout; source names it in complaints."""
+    if not text.lstrip().startswith('<'):
+        return robot_from_yaml(parse_yaml(text, source, 'robot file', RobotFileError), source,
+                               search_path, in_file)
+    try:
+        return parse_robot(flat_from_xml(text, source, search_path, in_file), source)
+    except StdrFileError as error:
+        raise RobotFileError(str(error)) from None
+
+
+def robot_from_yaml(data: object, source: str, search_path: tuple = (),
+                    in_file: bool = False) -> RobotDescription:
+    """Check a robot read from YAML, in STDR's nested layout or the flat one."""
+    try:
+        if is_stdr_layout(data):
+            data = flat_from_yaml(data, source, search_path, in_file)
+    except StdrFileError as error:
+        raise RobotFileError(str(error)) from None
+    return parse_robot(data, source)
+
+
+def parse_robot(data: object, source: str = '<robot>') -> RobotDescription:
+    """Check a robot description in the flat layout; return a RobotDescription."""
+    reader = FieldReader(source)
     data = reader.mapping(data, '')
     footprint = reader.mapping(data.get('footprint', {}), 'footprint')
-    if footprint.get('points'):
-        reader.fail('footprint.points', 'polygon footprints are not supported; give a radius')
-    radius = reader.number(footprint, 'radius', 'footprint', RADIUS)
+    points = _polygon(reader, reader.sequence(footprint, 'points', 'footprint'))
+    radius = (max(math.hypot(x, y) for x, y in points) if points
+              else reader.number(footprint, 'radius', 'footprint', RADIUS))
     sensors = reader.mapping(data.get('sensors', {}) or {}, 'sensors')
     laser_items = reader.sequence(sensors, 'lasers', 'sensors')
     sonar_items = reader.sequence(sensors, 'sonars', 'sensors')
@@ -113,8 +179,64 @@ def parse_robot(data: object, source: str = '<robot>') -> 'RobotDescription':
     sonars = tuple(_sonar(reader, item, f'sensors.sonars[{index}]')
                    for index, item in enumerate(sonar_items))
     _check_sensor_names(reader, lasers, sonars)
-    return RobotDescription(radius, reader.pose(data, 'initial_pose', '', POSITION), lasers,
-                            sonars)
+    return RobotDescription(radius, reader.pose(data, 'initial_pose', '', POSITION, HEADING),
+                            lasers, sonars, points, _kinematic(reader, data),
+                            _unsimulated(reader, data, sensors))
+
+
+def _polygon(reader, items):
+    if not items:
+        return ()
+    if not 3 <= len(items) <= MAX_POLYGON_POINTS:
+        reader.fail('footprint.points', f'a polygon of 3 to {MAX_POLYGON_POINTS} points, got '
+                    f'{len(items)}')
+    points = []
+    for index, item in enumerate(items):
+        where = f'footprint.points[{index}]'
+        if isinstance(item, list) and len(item) == 2:
+            item = {'x': item[0], 'y': item[1]}
+        item = reader.mapping(item, where)
+        points.append((reader.number(item, 'x', where, FOOTPRINT_POINT),
+                       reader.number(item, 'y', where, FOOTPRINT_POINT)))
+    problem = polygon_problem(points)
+    if problem is not None:
+        reader.fail('footprint.points', problem)
+    radius = max(math.hypot(x, y) for x, y in points)
+    if not RADIUS.contains(radius):
+        reader.fail('footprint.points', f'the farthest corner must be {RADIUS.text()} m from '
+                    f'the centre, got {compact(radius)}')
+    return tuple(points)
+
+
+def _kinematic(reader, data):
+    if 'kinematic' not in data:
+        return Kinematic()
+    kinematic = reader.mapping(data['kinematic'], 'kinematic')
+    unknown = sorted(set(kinematic) - {'model', 'parameters', 'type'})
+    if unknown:
+        reader.fail('kinematic', f'unknown {unknown[0]!r} (expected model, parameters)')
+    # The early flat layout names the model type, empty for the ideal one.
+    model = reader.choice(kinematic, 'model', 'kinematic', KINEMATIC_MODELS,
+                          kinematic.get('type') or 'ideal')
+    parameters = reader.mapping(kinematic.get('parameters') or {}, 'kinematic.parameters')
+    unknown = sorted(set(parameters) - set(KINEMATIC_PARAMETERS))
+    if unknown:
+        reader.fail('kinematic.parameters', f'unknown {unknown[0]!r} (STDR names them '
+                    'a_ux_ux ... a_g_w)')
+    return Kinematic(model, tuple(
+        reader.number(parameters, name, 'kinematic.parameters', MOTION_NOISE)
+        if name in parameters else 0.0 for name in KINEMATIC_PARAMETERS))
+
+
+def _unsimulated(reader, data, sensors):
+    """Name the sensors kept but not simulated: from the flat keys, or STDR's elements."""
+    names = []
+    for key, kind in UNSIMULATED_KINDS.items():
+        for index, item in enumerate(reader.sequence(sensors, key, 'sensors')):
+            item = reader.mapping(item, f'sensors.{key}[{index}]')
+            names.append(f'{kind} {item.get("frame_id", f"{kind}_{index}")}')
+    names += [str(name) for name in reader.sequence(data, 'unsimulated', '')]
+    return tuple(names)
 
 
 def _check_sensor_names(reader, lasers, sonars):
@@ -132,22 +254,37 @@ def _check_sensor_names(reader, lasers, sonars):
             seen[spec.frame_id] = where.removesuffix('.frame_id')
 
 
+def _mount(reader, item, where):
+    """Return a sensor's mount: any finite heading, wrapped, as STDR reads it."""
+    x, y, theta = reader.pose(item, 'pose', where, MOUNT_OFFSET, FINITE)
+    return x, y, wrap_angle(theta)
+
+
+def _noise(reader, item, where):
+    noise = reader.mapping(item.get('noise') or {'mean': 0, 'std': 0}, f'{where}.noise')
+    return Noise(reader.number(noise, 'mean', f'{where}.noise', NOISE_MEAN),
+                 reader.number(noise, 'std', f'{where}.noise', NOISE_STD))
+
+
 def _laser(reader, item, where):
     item = reader.mapping(item, where)
     spec = LaserSpec(
         frame_id=reader.name(item, 'frame_id', where),
-        pose=reader.pose(item, 'pose', where, MOUNT_OFFSET),
+        pose=_mount(reader, item, where),
         min_angle=reader.number(item, 'min_angle', where, LASER_ANGLE),
         max_angle=reader.number(item, 'max_angle', where, LASER_ANGLE),
         min_range=reader.number(item, 'min_range', where, MIN_RANGE),
         max_range=reader.number(item, 'max_range', where, MAX_RANGE),
         num_rays=reader.count(item, 'num_rays', where, RAYS),
         frequency=reader.number(item, 'frequency', where, FREQUENCY),
-        noise=reader.noise(item, where))
+        noise=_noise(reader, item, where))
     if spec.max_angle < spec.min_angle:
         reader.fail(f'{where}.max_angle', f'{compact(spec.max_angle)} is below min_angle '
                     f'{compact(spec.min_angle)}')
-    reader.check_ranges(spec, where)
+    if spec.max_angle - spec.min_angle > FULL_TURN:
+        reader.fail(f'{where}.max_angle', f'a laser spans at most a full turn (2 pi), got '
+                    f'{compact(spec.max_angle - spec.min_angle)} rad')
+    _check_ranges(reader, spec, where)
     return spec
 
 
@@ -155,75 +292,20 @@ def _sonar(reader, item, where):
     item = reader.mapping(item, where)
     spec = SonarSpec(
         frame_id=reader.name(item, 'frame_id', where),
-        pose=reader.pose(item, 'pose', where, MOUNT_OFFSET),
+        pose=_mount(reader, item, where),
         cone_angle=reader.number(item, 'cone_angle', where, CONE_ANGLE),
         min_range=reader.number(item, 'min_range', where, MIN_RANGE),
         max_range=reader.number(item, 'max_range', where, MAX_RANGE),
         frequency=reader.number(item, 'frequency', where, FREQUENCY),
-        noise=reader.noise(item, where))
-    reader.check_ranges(spec, where)
+        noise=_noise(reader, item, where))
+    _check_ranges(reader, spec, where)
     return spec
 
 
-class _Reader:
-    """Typed access to YAML values; every complaint names the file and the key."""
-
-    def __init__(self, source):
-        self.source = source
-
-    def fail(self, key, problem):
-        raise RobotFileError(f'{self.source}: {key}: {problem}')
-
-    def mapping(self, value, key):
-        if not isinstance(value, dict):
-            self.fail(key or 'top level', f'expected a mapping, got {describe(value)}')
-        return value
-
-    def sequence(self, data, key, where):
-        value = data.get(key) or []
-        if not isinstance(value, list):
-            self.fail(f'{where}.{key}', f'expected a list, got {describe(value)}')
-        return value
-
-    def number(self, data, key, where, bounds=FINITE):
-        name = f'{where}.{key}' if where else key
-        if key not in data:
-            self.fail(name, 'missing')
-        value = data[key]
-        if not is_finite_number(value):
-            self.fail(name, f'expected a finite number, got {describe(value)}')
-        if not bounds.contains(value):
-            self.fail(name, f'must be {bounds.text()}, got {compact(value)}')
-        return float(value)
-
-    def count(self, data, key, where, bounds):
-        value = self.number(data, key, where, bounds)
-        if value != int(value):
-            self.fail(f'{where}.{key}', f'expected a whole number, got {compact(value)}')
-        return int(value)
-
-    def name(self, data, key, where, default=None):
-        value = data.get(key, default)
-        if not is_ros_name(value):
-            self.fail(f'{where}.{key}', f'expected {ROS_NAME_RULE}, got {describe(value)}')
-        return value
-
-    def pose(self, data, key, where, position_bounds):
-        name = f'{where}.{key}' if where else key
-        pose = self.mapping(data.get(key, {'x': 0, 'y': 0, 'theta': 0}), name)
-        return (self.number(pose, 'x', name, position_bounds),
-                self.number(pose, 'y', name, position_bounds),
-                self.number(pose, 'theta', name, HEADING))
-
-    def noise(self, data, where):
-        noise = self.mapping(data.get('noise') or {'mean': 0, 'std': 0}, f'{where}.noise')
-        return Noise(self.number(noise, 'mean', f'{where}.noise', NOISE_MEAN),
-                     self.number(noise, 'std', f'{where}.noise', NOISE_STD))
-
-    def check_ranges(self, spec, where):
-        if spec.max_range <= spec.min_range:
-            self.fail(f'{where}.max_range', f'{compact(spec.max_range)} must exceed min_range '
-                      f'{compact(spec.min_range)}')
+def _check_ranges(reader, spec, where):
+    if spec.max_range <= spec.min_range:
+        reader.fail(f'{where}.max_range', f'{compact(spec.max_range)} must exceed min_range '
+                    f'{compact(spec.min_range)}')
 
 
 @dataclass(frozen=True)
@@ -233,54 +315,3 @@ class RobotEntry:
     name: str
     description: RobotDescription
     pose: tuple
-
-
-def load_robot_list(path: str | os.PathLike,
-                    default_description: RobotDescription) -> list[RobotEntry]:
-    """
-    Read a robot list: {robots: [{name, description, pose}, ...]}.
-
-    name defaults to robot<K> (K its position in the list), description (an STDR robot file,
-    relative to the list's folder) to default_description, and pose [x, y, theta] to the
-    description's initial_pose.
-    """
-    path = os.fspath(path)
-    data = read_yaml(path, 'robot list', RobotFileError, MAX_LIST_BYTES)
-    reader = _Reader(path)
-    robots = reader.sequence(reader.mapping(data, ''), 'robots', '')
-    if not robots:
-        reader.fail('robots', 'the list is empty')
-    entries = [robot_entry(item, f'robot{index}', default_description, path,
-                           os.path.dirname(path), f'robots[{index}]')
-               for index, item in enumerate(robots)]
-    names = [entry.name for entry in entries]
-    duplicates = sorted({name for name in names if names.count(name) > 1})
-    if duplicates:
-        reader.fail('robots', f'names must be unique; repeated: {", ".join(duplicates)}')
-    return entries
-
-
-def robot_entry(item: object, default_name: str, default_description: RobotDescription,
-                source: str, folder: str = '', where: str = 'robot') -> RobotEntry:
-    """Check one robot of a list (or of an add_robot request) and return a RobotEntry."""
-    reader = _Reader(source)
-    item = reader.mapping(item if item is not None else {}, where)
-    unknown = sorted(set(item) - {'name', 'description', 'pose'})
-    if unknown:
-        reader.fail(where, f'unknown keys {shorten(str(unknown))}; expected name, description, '
-                    'pose')
-    name = reader.name(item, 'name', where, default_name)
-    description = default_description
-    if 'description' in item:
-        if not isinstance(item['description'], str):
-            reader.fail(f'{where}.description', f'expected a file name, got '
-                        f'{describe(item["description"])}')
-        description = load_robot(os.path.join(folder, item['description']))
-    pose = item.get('pose', list(description.initial_pose))
-    if not isinstance(pose, list) or len(pose) != 3 or not all(map(is_finite_number, pose)):
-        reader.fail(f'{where}.pose', f'expected [x, y, theta] as finite numbers, got '
-                    f'{describe(pose)}')
-    for axis, value, bounds in zip(('x', 'y', 'theta'), pose, (POSITION, POSITION, HEADING)):
-        if not bounds.contains(value):
-            reader.fail(f'{where}.pose', f'{axis} must be {bounds.text()}, got {compact(value)}')
-    return RobotEntry(name, description, tuple(float(value) for value in pose))

@@ -10,9 +10,10 @@ from dataclasses import dataclass
 import os
 from urllib.parse import unquote, urlparse
 
-from simple_robot_control.input_files import parse_yaml, read_yaml
+from simple_robot_control.input_files import MAX_DESCRIPTION_BYTES, parse_yaml, read_text
 from simple_robot_control.validation import Bounds, describe, is_finite_number, shorten
-from stdr_lite.core.robot_description import parse_robot, RobotDescription, RobotFileError
+from stdr_lite.core.robot_description import (parse_robot_text, robot_from_yaml,
+                                              RobotDescription, RobotFileError)
 
 ROBOT_FORMAT = 'stdr_robot_yaml'
 OBSTACLE_FORMAT = 'stdr_lite_obstacle_yaml'
@@ -54,34 +55,46 @@ def path_of(uri: str, bundled: dict) -> str:
     return uri
 
 
-def load_resource(uri: str, resource_string: str,
-                  bundled: dict) -> RobotDescription | ObstacleSpec:
-    """Read what a spawn request names (uri first, else resource_string), or raise."""
+def load_resource(uri: str, resource_string: str, bundled: dict,
+                  search_path: tuple = ()) -> RobotDescription | ObstacleSpec:
+    """
+    Read what a spawn request names (uri first, else resource_string), or raise.
+
+    A robot may be in any layout a robot file may (robot_description.py); its includes are
+    looked for in search_path, after STDR's own places when it comes from a file.
+    """
     if uri:
         path = path_of(uri, bundled)
-        if not path.endswith(('.yaml', '.yml')):
+        if not path.endswith(('.yaml', '.yml', '.xml')):
             raise SpawnResourceError('unsupported_format', f'{shorten(uri)}: spawn formats are '
-                                     f'{" and ".join(SPAWN_FORMATS)} (YAML files)')
+                                     f'{" and ".join(SPAWN_FORMATS)} (YAML or XML files)')
         if not os.path.exists(path):
             raise SpawnResourceError('missing_assets', f'{shorten(uri)}: no such file')
         try:
-            return parse_resource(read_yaml(path, 'spawn resource', RobotFileError), path)
+            text = read_text(path, 'spawn resource', RobotFileError, MAX_DESCRIPTION_BYTES)
+            return parse_resource(text, path, search_path, in_file=True)
         except RobotFileError as error:
             raise SpawnResourceError('parse_error', str(error)) from None
     if resource_string:
         try:
-            return parse_resource(parse_yaml(resource_string, 'resource_string', 'spawn resource',
-                                             RobotFileError), 'resource_string')
+            return parse_resource(resource_string, 'resource_string', search_path, in_file=False)
         except RobotFileError as error:
             raise SpawnResourceError('parse_error', str(error)) from None
     raise SpawnResourceError('no_resource', 'give a uri or a resource_string')
 
 
-def parse_resource(data: object, source: str) -> RobotDescription | ObstacleSpec:
-    """Return the obstacle or the robot description that parsed YAML describes."""
-    if isinstance(data, dict) and 'obstacle' in data:
-        return _obstacle(data, source)
-    return parse_robot(data, source)
+def parse_resource(text: str, source: str, search_path: tuple = (),
+                   in_file: bool = False) -> RobotDescription | ObstacleSpec:
+    """Return the obstacle or the robot that a resource's text describes."""
+    if len(text) > MAX_DESCRIPTION_BYTES:
+        raise RobotFileError(f'{source}: spawn resource is too large ({len(text):,} characters; '
+                             f'at most {MAX_DESCRIPTION_BYTES:,})')
+    if not text.lstrip().startswith('<'):
+        data = parse_yaml(text, source, 'spawn resource', RobotFileError)
+        if isinstance(data, dict) and 'obstacle' in data:
+            return _obstacle(data, source)
+        return robot_from_yaml(data, source, search_path, in_file)
+    return parse_robot_text(text, source, search_path, in_file)
 
 
 def _obstacle(data, source):

@@ -97,7 +97,8 @@ class EntityServices:
         if self._node.stepper.state == SimulationState.STATE_NO_WORLD:
             raise Refusal(Result.RESULT_INCORRECT_STATE, 'no world is loaded')
         try:
-            spec = load_resource(uri, resource_string, bundled_files('robots', 'obstacles'))
+            spec = load_resource(uri, resource_string, bundled_files('robots', 'obstacles'),
+                                 self._node.search_path)
         except SpawnResourceError as error:
             raise Refusal(RESOURCE_CODES[error.kind], str(error)) from None
         is_robot = isinstance(spec, RobotDescription)
@@ -108,6 +109,7 @@ class EntityServices:
                 self._check_names(namespace.strip('/') or name, spec, bool(namespace))
                 self._simulation.add_robot(RobotEntry(name, spec, start), spawned=True,
                                            namespace=namespace)
+                self._node.note_unsimulated(name, spec)
             elif namespace:
                 raise Refusal(SpawnResult.NAMESPACE_INVALID, 'an obstacle has no topics to '
                               'put under a namespace')
@@ -236,14 +238,14 @@ class EntityServices:
         unknown, notes = [], []
         for source in request.sources:
             if os.path.isdir(source):
-                found, note = yaml_files(source)
+                found, note = yaml_files(source, ('.yaml', '.yml', '.xml'))
                 paths += found
                 notes += [note] if note else []
             else:
                 unknown.append(source)
         response.spawnables = []
         for path in paths:
-            spawnable = _spawnable(path)
+            spawnable = _spawnable(path, self._node.search_path)
             if spawnable is not None:
                 response.spawnables.append(spawnable)
             yield
@@ -299,10 +301,10 @@ def _description(entity):
             f'/{entity.namespace}')
 
 
-def _spawnable(path):
+def _spawnable(path, search_path):
     """Describe a robot or obstacle file as a standard Spawnable, or None if it is neither."""
     try:
-        spec = load_resource(path, '', {})
+        spec = load_resource(path, '', {}, search_path)
     except SpawnResourceError:
         return None
     name = os.path.splitext(os.path.basename(path))[0]

@@ -2,19 +2,24 @@
 
 from dataclasses import dataclass, replace
 import math
+import os
 
 from simple_robot_control.node_runtime import ConfigError, require
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.parameters import ParameterSpec
-from simple_robot_control.share import BUNDLED_MAP, BUNDLED_ROBOT, shared_file
-from simple_robot_control.validation import Bounds, NON_NEGATIVE
+from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
+from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
 from stdr_lite.core.kinematics import INTEGRATORS
 from stdr_lite.core.odometry import OdometryNoise
-from stdr_lite.core.robot_description import (load_robot, load_robot_list, RobotEntry,
-                                              RobotFileError)
+from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
+from stdr_lite.core.robot_list import load_robot_list
 from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
 from stdr_lite.core.world import PlacementError
 
+RESOURCE_PATHS = ParameterSpec(
+    'resource_paths', (), "folders where robot files' includes (filename elements) are looked "
+    'for, after the folder above the robot file and beside the including file; the bundled '
+    'resources come last', constraints='existing folders')
 PARAMETERS = (
     ParameterSpec('map_yaml', '', 'map_server YAML file of the world; empty for the bundled '
                   'lab_room (20 m x 15 m)'),
@@ -27,8 +32,9 @@ PARAMETERS = (
     ParameterSpec('lockstep', False, 'advance only once every robot has answered its latest '
                   'odometry with a cmd_vel, so sim time never runs ahead of the controller; '
                   'real_time_factor is then an upper bound'),
-    ParameterSpec('robot_description', '', 'STDR robot YAML (footprint, sensors) of the '
-                  'robots; empty for the bundled lab robot'),
+    ParameterSpec('robot_description', '', 'robot file of the robots (STDR XML, nested or flat '
+                  'YAML); empty for the bundled lab robot'),
+    RESOURCE_PATHS,
     ParameterSpec('robots_file', '', 'YAML robot list {robots: [{name, description, pose}]}; '
                   'empty: one robot, robot_name at initial_pose'),
     ParameterSpec('robot_name', 'robot0', 'name of the one robot when there is no robots_file: '
@@ -98,17 +104,19 @@ def frames(params):
     return Frames(params['map_frame_id'], params['odom_frame_id'], params['base_frame_id'])
 
 
-def build_simulation(params):
+def build_simulation(params, folders):
     """
     Return the simulation the parameters describe, and the robots' default description.
 
-    Anything that cannot be used raises ConfigError with one line naming it.
+    folders is where robot files' includes are looked for (search_path). Anything that cannot
+    be used raises ConfigError with one line naming it.
     """
     map_yaml = params['map_yaml'] or shared_file(*BUNDLED_MAP)
     try:
         occupancy_map = load_map(map_yaml)
-        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT))
-        entries = _robot_entries(params, description)
+        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),
+                                 folders)
+        entries = _robot_entries(params, description, folders)
     except (MapError, RobotFileError) as error:
         raise ConfigError(str(error)) from None
     require(params['odom_rate_hz'] <= params['rate_hz'],
@@ -126,15 +134,22 @@ def build_simulation(params):
         raise ConfigError(str(error)) from None
 
 
-def _robot_entries(params, description):
+def search_path(params):
+    """Return where robot files' includes are looked for: resource_paths, then the bundled."""
+    for folder in params['resource_paths']:
+        require(os.path.isdir(folder), f'resource_paths: {shorten(folder)} is not a folder')
+    return tuple(params['resource_paths']) + (shared_file(*BUNDLED_RESOURCES),)
+
+
+def _robot_entries(params, description, folders):
     single = {name: params[name] for name in ('robot_name', 'robot_radius', 'initial_pose')}
     if not params['robots_file']:
         require(len(single['initial_pose']) == 3,
                 f'initial_pose must be [x, y, theta], got {single["initial_pose"]}')
         if single['robot_radius'] > 0.0:
-            description = replace(description, radius=single['robot_radius'])
+            description = replace(description, radius=single['robot_radius'], points=())
         return [RobotEntry(single['robot_name'], description, tuple(single['initial_pose']))]
     changed = [spec.name for spec in PARAMETERS
                if spec.name in single and single[spec.name] != spec.default]
     require(not changed, f'robots_file lists the robots; drop {", ".join(changed)}')
-    return load_robot_list(params['robots_file'], description)
+    return load_robot_list(params['robots_file'], description, folders)

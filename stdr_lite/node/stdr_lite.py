@@ -21,7 +21,7 @@ from stdr_lite.node.frames import FramePublisher
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
-from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS
+from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS, search_path
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.stepper import Stepper
@@ -50,13 +50,17 @@ class StdrLite(GuardedNode):
         self.finished = Future()
         params = declare_parameters(self, PARAMETERS)
         self.frames = frames(params)
-        self.simulation, self.default_description = build_simulation(params)
+        self.search_path = search_path(params)
+        self.simulation, self.default_description = build_simulation(params, self.search_path)
         for name in self.simulation.robot_names:
             robot = self.simulation.robot(name)
             try:
                 check_robot_names(self, self.frames, robot.namespace, robot.description)
             except NamingProblem as problem:
                 raise ConfigError(f'robot {shorten(name)}: {problem}') from None
+        self._noted = set()
+        for name in self.simulation.robot_names:
+            self.note_unsimulated(name, self.simulation.robot(name).description)
         self.requests = RequestQueue(self)
         self._stamped = params['cmd_vel_stamped']
         self._frame_publisher = FramePublisher(self, self.frames, self.simulation)
@@ -138,6 +142,13 @@ class StdrLite(GuardedNode):
         """Publish the current state again (same stamp), as after a teleport while paused."""
         self._publish_state()
         self._frame_publisher.obstacles_moved()
+
+    def note_unsimulated(self, name, description):
+        """Log, once per robot file, the sensors it has that stdr_lite does not simulate."""
+        if description.unsimulated and description not in self._noted:
+            self._noted.add(description)
+            self.get_logger().warn(f'robot {shorten(name)}: not simulated (stdr_lite has no such '
+                                   f'sensors; kept by name): {", ".join(description.unsimulated)}')
 
     def quit_soon(self):
         """End the node once the answer that asked for it has gone out."""

@@ -6,6 +6,7 @@ No ROS node here, only the requests and argument parsing; stdr_ctl.py sends them
 
 import argparse
 from dataclasses import dataclass, field
+import os
 from typing import Callable
 
 from rclpy.exceptions import InvalidServiceNameException
@@ -128,10 +129,12 @@ def _spawn(options):
     request = SpawnEntity.Request(name=options.name,
                                   allow_renaming=options.rename or not options.name,
                                   entity_namespace=options.namespace)
-    if options.yaml:
+    if options.text:
         request.resource_string = options.resource
     else:
-        request.uri = options.resource
+        # The simulator may run in another folder: a file here is sent by its full path.
+        local = os.path.isfile(options.resource) and '://' not in options.resource
+        request.uri = os.path.abspath(options.resource) if local else options.resource
     set_pose(request.initial_pose.pose, options.x, options.y, options.theta)
     return Call(SpawnEntity, 'spawn_entity', {'request': request},
                 lambda response: [f'spawned {response.entity_name}'])
@@ -204,8 +207,10 @@ COMMANDS = {
     'get': ("an entity's pose and velocity", lambda parser: parser.add_argument('name'),
             lambda options: Call(GetEntityState, 'get_entity_state', {'entity': options.name},
                                  lambda response: _state_lines(options.name, response.state))),
-    'spawn': ('add a robot or obstacle: RESOURCE is a bundled spawnable (lab_robot, obstacle, '
-              'moving_obstacle), a file path or file:// URI, or with --yaml the YAML itself',
+    'spawn': ('add a robot or obstacle: RESOURCE is a bundled spawnable (lab_robot, '
+              'turtlebot3_burger, obstacle, moving_obstacle), a robot file (STDR XML, nested or '
+              'flat YAML) or obstacle file by path or file:// URI, or with --text the text '
+              'of such a file',
               lambda parser: (
                   parser.add_argument('resource'), parser.add_argument('x', type=finite),
                   parser.add_argument('y', type=finite),
@@ -216,8 +221,9 @@ COMMANDS = {
                                       'default: its name'),
                   parser.add_argument('--rename', action='store_true',
                                       help='take another name if this one is taken'),
-                  parser.add_argument('--yaml', action='store_true',
-                                      help='RESOURCE is the YAML text')), _spawn),
+                  parser.add_argument('--text', '--yaml', action='store_true',
+                                      help="RESOURCE is the file's text (YAML or XML)")),
+              _spawn),
     'delete': ('remove an entity', lambda parser: parser.add_argument('name'),
                lambda options: Call(DeleteEntity, 'delete_entity', {'entity': options.name},
                                     lambda _: [f'deleted {options.name}'])),

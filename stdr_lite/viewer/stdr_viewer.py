@@ -30,6 +30,7 @@ from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, describe
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
+from stdr_lite.node.parameters import RESOURCE_PATHS, search_path
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import (LaserReading, ObstacleView, Painter, RobotLook, Scene,
                                     SonarReading, View)
@@ -54,9 +55,10 @@ OBSTACLE_MARKERS = {'static_obstacle': False, 'moving_obstacle': True}
 ROBOT_TOPIC = re.compile(r'^/((?:[A-Za-z_]\w*/)*[A-Za-z_]\w*)/([A-Za-z_]\w*)$')
 
 PARAMETERS = (
-    ParameterSpec('robot_description', '', "STDR robot YAML giving the robots' radius and "
+    ParameterSpec('robot_description', '', "robot file giving the robots' footprint and "
                   'sensor mounts where the simulator publishes no markers and /tf_static (as '
                   'stdr_lite does); empty for the bundled lab robot'),
+    RESOURCE_PATHS,
     ParameterSpec('width', 1000, 'window width [pixels]', Bounds(200, 10000)),
     ParameterSpec('height', 750, 'window height [pixels]', Bounds(150, 10000)),
     ParameterSpec('fps', 30.0, 'frames drawn per second of wall time', Bounds(1.0, 120.0)),
@@ -84,7 +86,8 @@ class StdrViewer(GuardedNode):
         params = declare_parameters(self, PARAMETERS)
         size = (params['width'], params['height'])
         try:
-            description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT))
+            description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),
+                                     search_path(params))
         except RobotFileError as error:
             raise ConfigError(str(error)) from None
         self._screenshot = params['screenshot']

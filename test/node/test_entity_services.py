@@ -24,6 +24,13 @@ FAST_ROBOT = ('footprint: {radius: 0.2}\nsensors:\n  lasers:\n    - {frame_id: l
               'min_angle: -1, max_angle: 1, min_range: 0.1, max_range: 4, num_rays: 5, '
               'frequency: 1000}\n')
 
+# Robots in STDR's XML: one includes the bundled 360-degree laser, one carries an RFID reader.
+TURTLE_LIKE = ('<robot><robot_specifications><laser><filename>laser_sensors/lds_01.xml'
+               '</filename></laser></robot_specifications></robot>')
+TAGGING = ('<robot><robot_specifications><rfid_reader><rfid_reader_specifications>'
+           '<frame_id>tags</frame_id></rfid_reader_specifications></rfid_reader>'
+           '</robot_specifications></robot>')
+
 
 @pytest.fixture
 def world(ros_context, executor):
@@ -322,12 +329,34 @@ def test_spawnables_list_the_bundled_files_and_any_folder(world, tmp_path):
     (tmp_path / 'notes.yaml').write_text('just: words\n')
     answer = call(GetSpawnables, 'get_spawnables', sources=[str(tmp_path), '/no/such'])
     assert answer.result.result == OK and '/no/such' in answer.result.error_message
+    (tmp_path / 'scanner.xml').write_text(TURTLE_LIKE)
     uris = [spawnable.uri for spawnable in answer.spawnables]
-    assert uris[:3] == ['lab_robot', 'moving_obstacle', 'obstacle']
-    assert uris[3:] == [str(tmp_path / 'pillar.yaml')]
-    pillar = answer.spawnables[3]
+    assert uris[:4] == ['lab_robot', 'moving_obstacle', 'obstacle', 'turtlebot3_burger']
+    assert uris[4:] == [str(tmp_path / 'pillar.yaml')]
+    pillar = answer.spawnables[4]
     assert pillar.spawn_bounds.type == Bounds.TYPE_SPHERE
     assert pillar.spawn_bounds.points[1].x == 0.4
+    answer = call(GetSpawnables, 'get_spawnables', sources=[str(tmp_path)])
+    assert [spawnable.uri for spawnable in answer.spawnables][4:] == [
+        str(tmp_path / 'pillar.yaml'), str(tmp_path / 'scanner.xml')]
+
+
+def test_stdr_robot_files_spawn_with_their_includes(world, executor, tmp_path, capfd):
+    simulator, client, call = world
+    (tmp_path / 'scanner.xml').write_text(TURTLE_LIKE)
+    answer = spawn(call, 'turtle', str(tmp_path / 'scanner.xml'), 5.0, 5.0)
+    assert answer.result.result == OK, answer.result.error_message
+    laser, = simulator.simulation.robot('turtle').description.lasers
+    assert (laser.num_rays, laser.min_angle, laser.max_range) == (360, 0.0, 3.5)
+    answer = spawn(call, 'tagger', '', 8.0, 5.0, resource_string=TAGGING)
+    assert answer.result.result == OK, answer.result.error_message
+    spin_until(executor, lambda: 'not simulated' in capfd.readouterr().err or None,
+               what='the unsimulated RFID reader named in the log')
+    answer = spawn(call, 'lost', '', 8.0, 8.0, resource_string=TURTLE_LIKE.replace(
+        'lds_01', 'lds_99'))
+    assert answer.result.result == SpawnResult.RESOURCE_PARSE_ERROR
+    assert 'laser.filename laser_sensors/lds_99.xml: no such file' in (
+        answer.result.error_message)
 
 
 def test_a_moving_obstacle_stops_a_robot_and_shows_in_its_laser(ros_context, executor):

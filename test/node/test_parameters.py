@@ -27,7 +27,8 @@ NODES = {'stdr_lite': simulator_parameters.PARAMETERS,
 @pytest.mark.parametrize('node', NODES)
 def test_each_node_has_an_example_file_of_its_parameters_at_their_defaults(node):
     values = yaml.safe_load((CONFIG / f'{node}.yaml').read_text())[node]['ros__parameters']
-    assert values == {spec.name: spec.default for spec in NODES[node]}
+    assert values == {spec.name: list(spec.default) if isinstance(spec.default, tuple)
+                      else spec.default for spec in NODES[node]}
 
 
 def params_file_arguments(tmp_path, node, **changes):

@@ -17,8 +17,8 @@ def simulator():
         interrupt(process)
 
 
-def ctl(*args, timeout=60):
-    return run('stdr_ctl', *args, timeout=timeout)
+def ctl(*args, timeout=60, cwd=None):
+    return run('stdr_ctl', *args, timeout=timeout, cwd=cwd)
 
 
 def answer_of(*args):
@@ -51,6 +51,18 @@ def test_spawn_move_list_and_delete(simulator):
     assert 'static obstacle of radius 0.25 m' in answer_of('info', 'rock')
     assert answer_of('delete', 'rock') == 'deleted rock'
     assert 'rock' not in answer_of('list')
+
+
+def test_a_robot_file_spawns_by_a_path_relative_to_stdr_ctl(simulator, tmp_path):
+    (tmp_path / 'robots').mkdir()
+    (tmp_path / 'robots' / 'scanner.xml').write_text(
+        '<robot><robot_specifications><laser><filename>laser_sensors/lds_01.xml</filename>'
+        '<laser_specifications><frame_id>scan</frame_id></laser_specifications></laser>'
+        '</robot_specifications></robot>')
+    answer = ctl('spawn', 'robots/scanner.xml', '5', '5', '--name', 'turtle', cwd=tmp_path)
+    assert (answer.returncode, answer.stdout.strip()) == (0, 'spawned turtle'), answer.stderr
+    assert 'with scan; topics under /turtle' in answer_of('info', 'turtle')
+    assert answer_of('delete', 'turtle') == 'deleted turtle'
 
 
 def test_a_refusal_is_one_line_and_exit_code_1(simulator):

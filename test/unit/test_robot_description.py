@@ -1,15 +1,15 @@
-"""STDR robot files and robot lists: what loads, and one-line errors for what does not."""
+"""Robot files in the flat layout: what loads, and one-line errors for what does not."""
 
 import math
 
 import pytest
-from simple_robot_control.share import BUNDLED_ROBOT, shared_file
-from stdr_lite.core.robot_description import (load_robot, load_robot_list, Noise, parse_robot,
+from simple_robot_control.share import shared_file
+from stdr_lite.core.robot_description import (Kinematic, load_robot, Noise, parse_robot,
                                               RobotFileError)
 import yaml
 
-# The layout of STDR's own pandora_robot.yaml (the values are ours).
-STDR_ROBOT = """
+# The flat layout (STDR's early development one, kept as ours; the values are ours).
+FLAT_ROBOT = """
 initial_pose: {x: 1.5, y: 2.5, theta: 0.5}
 footprint: {radius: 0.15, points: []}
 kinematic: {type: ""}
@@ -25,9 +25,9 @@ sensors:
 """
 
 
-def test_stdr_robot_file_loads(tmp_path):
+def test_flat_robot_file_loads(tmp_path):
     path = tmp_path / 'pandora.yaml'
-    path.write_text(STDR_ROBOT)
+    path.write_text(FLAT_ROBOT)
     robot = load_robot(path)
     assert robot.radius == 0.15 and robot.initial_pose == (1.5, 2.5, 0.5)
     laser, = robot.lasers
@@ -51,7 +51,7 @@ def test_bundled_lab_robot_is_the_lab_s():
 
 
 def edited(path_and_value):
-    data = yaml.safe_load(STDR_ROBOT)
+    data = yaml.safe_load(FLAT_ROBOT)
     path, value = path_and_value
     node = data
     for key in path[:-1]:
@@ -67,7 +67,22 @@ def edited(path_and_value):
     ((('footprint', 'radius'), -1), 'footprint.radius: must be in (0, 5], got -1'),
     ((('footprint', 'radius'), 1e6), 'footprint.radius: must be in (0, 5], got 1000000'),
     ((('footprint', 'radius'), None), 'footprint.radius: missing'),
-    ((('footprint', 'points'), [[0, 0], [1, 0]]), 'footprint.points: polygon footprints are not'),
+    ((('footprint', 'points'), [[0, 0], [1, 0]]), 'footprint.points: a polygon of 3 to 64 '
+     'points, got 2'),
+    ((('footprint', 'points'), [[0, 0], [1, 1], [1, 0], [0, 1]]), 'footprint.points: edges 0 '
+     'and 2 cross'),
+    ((('footprint', 'points'), [[0, 0], [1, 0], [2, 0]]), 'footprint.points: the corners '
+     'enclose no area'),
+    ((('footprint', 'points'), [[0, 0], [6, 0], [0, 1]]), 'footprint.points[1].x: must be in '
+     '[-5, 5], got 6'),
+    ((('sensors', 'lasers', 0, 'max_angle'), 4.0), 'sensors.lasers[0].max_angle: a laser spans '
+     'at most a full turn (2 pi), got 6.35 rad'),
+    ((('sensors', 'lasers', 0, 'pose', 'theta'), float('inf')), 'sensors.lasers[0].pose.theta: '
+     'expected a finite number'),
+    ((('kinematic',), {'model': 'tank'}), 'kinematic.model: expected one of ideal, omni'),
+    ((('kinematic',), {'parameters': {'a_x': 1}}), "kinematic.parameters: unknown 'a_x'"),
+    ((('kinematic',), {'parameters': {'a_ux_ux': -1}}), 'kinematic.parameters.a_ux_ux: must be '
+     'in [0, 100], got -1'),
     ((('sensors', 'lasers', 0, 'num_rays'), 2.5), 'sensors.lasers[0].num_rays: expected a '
      'whole number'),
     ((('sensors', 'lasers', 0, 'max_range'), 'far'),
@@ -111,9 +126,21 @@ def test_a_wrong_file_is_refused_without_echoing_its_contents():
                                  f'{len(contents)} characters')
 
 
-def test_nested_stdr_format_is_refused_clearly():
-    with pytest.raises(RobotFileError, match='nested robot_specifications format'):
-        parse_robot({'robot': {'robot_specifications': []}}, 'old.yaml')
+def test_polygons_mounts_kinematics_and_unsimulated_sensors_are_kept():
+    data = edited((('footprint', 'points'), [[-0.2, -0.1], [0.3, -0.1], [0.3, 0.1], [-0.2, 0.1]]))
+    data['sensors']['lasers'][0].update(min_angle=0.0, max_angle=2 * math.pi)
+    data['sensors']['sonars'][0]['pose']['theta'] = 3.49
+    data['kinematic'] = {'model': 'omni', 'parameters': {'a_uy_uy': 0.1}}
+    data['sensors']['rfid_readers'] = [{'frame_id': 'tags'}]
+    robot = parse_robot(data, 'robot.yaml')
+    assert robot.points == ((-0.2, -0.1), (0.3, -0.1), (0.3, 0.1), (-0.2, 0.1))
+    assert robot.radius == pytest.approx(math.hypot(0.3, 0.1))
+    assert (robot.lasers[0].min_angle, robot.lasers[0].max_angle) == (0.0, 2 * math.pi)
+    assert robot.sonars[0].pose[2] == pytest.approx(3.49 - 2 * math.pi)
+    assert robot.kinematic.model == 'omni' and robot.kinematic.noisy
+    assert robot.kinematic.parameters[4] == 0.1 and sum(robot.kinematic.parameters) == 0.1
+    assert robot.unsimulated == ('rfid_reader tags',)
+    assert parse_robot(edited((('kinematic',), None)), 'robot.yaml').kinematic == Kinematic()
 
 
 def test_unreadable_robot_file_is_named(tmp_path):
@@ -123,31 +150,3 @@ def test_unreadable_robot_file_is_named(tmp_path):
     broken.write_text('footprint: [\n')
     with pytest.raises(RobotFileError, match='broken.yaml:2: robot file is not valid YAML'):
         load_robot(broken)
-
-
-def test_robot_list_defaults_names_poses_and_descriptions(tmp_path):
-    (tmp_path / 'small.yaml').write_text(STDR_ROBOT)
-    robots = tmp_path / 'robots.yaml'
-    robots.write_text('robots:\n  - {}\n  - {name: scout, description: small.yaml}\n'
-                      '  - {pose: [3, 4, 0.5]}\n')
-    default = load_robot(shared_file(*BUNDLED_ROBOT))
-    entries = load_robot_list(robots, default)
-    assert [entry.name for entry in entries] == ['robot0', 'scout', 'robot2']
-    assert entries[0].description == default and entries[0].pose == default.initial_pose
-    assert entries[1].description.radius == 0.15 and entries[1].pose == (1.5, 2.5, 0.5)
-    assert entries[2].pose == (3.0, 4.0, 0.5)
-
-
-@pytest.mark.parametrize('text, message', [
-    ('robots: []\n', 'robots: the list is empty'),
-    ('robots:\n  - {name: a}\n  - {name: a}\n', 'names must be unique; repeated: a'),
-    ('robots:\n  - {pose: [1, 2]}\n', 'robots[0].pose: expected [x, y, theta]'),
-    ('robots:\n  - {speed: 3}\n', "robots[0]: unknown keys ['speed']"),
-    ('robots:\n  - {description: nowhere.yaml}\n', 'nowhere.yaml: cannot read robot file'),
-])
-def test_bad_robot_list_is_one_line(tmp_path, text, message):
-    robots = tmp_path / 'robots.yaml'
-    robots.write_text(text)
-    with pytest.raises(RobotFileError) as raised:
-        load_robot_list(robots, load_robot(shared_file(*BUNDLED_ROBOT)))
-    assert message in str(raised.value) and '\n' not in str(raised.value)
