@@ -10,6 +10,10 @@ from rclpy.duration import Duration
 # announcement, up to 3 s later (3.06 s seen). A node younger than this may not see every peer.
 DISCOVERY_TIME = 4.0
 SETTLED_FOR = 0.25
+# A reader of cmd_vel of the other message type may be about to follow ours: stdr_lite takes
+# its publishers' type within a second of seeing them, which a slow discovery may delay by 3 s.
+# Only a mismatch lasting this long counts.
+MISMATCH_PATIENCE = 5.0
 POLL_PERIOD = 0.02
 
 

@@ -13,7 +13,7 @@ from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.graph import (command_type_problem, deliver_before_exit,
-                                        DISCOVERY_TIME, other_publishers)
+                                        DISCOVERY_TIME, MISMATCH_PATIENCE, other_publishers)
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.occupancy_map import MapError, OccupancyMap
@@ -116,6 +116,7 @@ class WaypointController(GuardedNode):
         self._answered = None
         self._command = STOP
         self._started_at = self._odometry_at = time.monotonic()
+        self._mismatch_since = None
         self._held = None
         self._has_map = self._map_given_up = False
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
@@ -299,10 +300,7 @@ class WaypointController(GuardedNode):
         if self._discovery is None and time.monotonic() - self._started_at < NEWCOMER_FOR:
             self._check_alone()
         if self._discovery is None and not self.finished.done():
-            mismatch = command_type_problem(self, self._commands.publisher, 'cmd_vel_stamped')
-            if mismatch is not None:
-                self._command = STOP
-                self.finished.set_exception(ConfigError(mismatch))
+            self._check_command_type()
         silence = time.monotonic() - self._odometry_at
         if self.finished.done() or silence < ODOMETRY_SILENCE:
             return
@@ -311,6 +309,18 @@ class WaypointController(GuardedNode):
             return
         self.get_logger().warn(f'no odometry on {self._odom_topic} for {silence:.0f} s: is '
                                'stdr_lite running?', throttle_duration_sec=5.0)
+
+    def _check_command_type(self):
+        """End the run once cmd_vel's readers have taken another message type for long."""
+        mismatch = command_type_problem(self, self._commands.publisher, 'cmd_vel_stamped')
+        if mismatch is None:
+            self._mismatch_since = None
+            return
+        now = time.monotonic()
+        self._mismatch_since = self._mismatch_since or now
+        if now - self._mismatch_since >= MISMATCH_PATIENCE:
+            self._command = STOP
+            self.finished.set_exception(ConfigError(mismatch))
 
     def _report(self, text):
         self.get_logger().info(text)

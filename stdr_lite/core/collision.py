@@ -1,11 +1,14 @@
 """
-Exact footprint-versus-grid checks for circular robots.
+Exact footprint-versus-grid checks for circular and polygonal robots.
 
 A circle touches an occupied cell when its centre is closer than its radius to the cell's
-square. A distance transform, done once, gives every cell a lower bound of the distance from
-any of its points to an occupied square, so a robot in open space (or a step whose whole path
-stays in open space) costs one lookup, and only robots near a wall pay for the exact check
-against the cells around them. Everything outside the map counts as occupied.
+square; a polygon, when one of its edges enters the square or the square's centre lies inside
+it (touching along an edge or at a corner is no overlap, as for circles). A distance
+transform, done once, gives every cell a lower bound of the distance from any of its points to
+an occupied square, so a robot in open space (or a step whose whole path stays in open space)
+costs one lookup, and only robots near a wall pay for the exact check against the cells around
+them: for a polygon, those within its circumradius, whatever its heading. Everything outside
+the map counts as occupied.
 """
 
 import math
@@ -43,6 +46,7 @@ class FootprintChecker:
         self.max_radius = float(max_radius)
         origin_x, origin_y, yaw = occupancy_map.origin
         self._origin = (float(origin_x), float(origin_y))
+        self._yaw = float(yaw)
         self._cos_yaw, self._sin_yaw = math.cos(yaw), math.sin(yaw)
         self._height, self._width = occupancy_map.occupied.shape
         self._pad = math.ceil(self.max_radius / self.resolution)
@@ -140,3 +144,94 @@ class FootprintChecker:
         gap_y = np.maximum(np.abs(map_y[:, None] - centre_y) - half, 0.0)
         close = gap_x ** 2 + gap_y ** 2 < (radius ** 2)[:, None]
         return np.any(occupied & close, axis=1)
+
+    def polygon_touches(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike,
+                        points: np.ndarray) -> np.ndarray:
+        """
+        Return, per pose, whether the polygon there overlaps an occupied cell or the outside.
+
+        x, y and theta broadcast to one pose each; points are the polygon's corners in the
+        body's frame, within max_radius of its centre.
+        """
+        x, y, theta = (np.ravel(value) for value in np.broadcast_arrays(
+            np.asarray(x, dtype=float), np.asarray(y, dtype=float),
+            np.asarray(theta, dtype=float)))
+        corners = np.asarray(points, dtype=float)
+        reach = float(np.max(np.hypot(corners[:, 0], corners[:, 1])))
+        map_x, map_y, rows, cols, inside = self._cells(x, y)
+        result = ~inside
+        candidates = np.flatnonzero(inside)
+        candidates = candidates[self.wall_gap[rows[candidates], cols[candidates]] < reach]
+        if candidates.size == 0:
+            return result
+        window = int(np.searchsorted(self._window_gaps, reach))
+        batch = max(1, CELLS_PER_BATCH // (window * len(corners)))
+        for start in range(0, candidates.size, batch):
+            chosen = candidates[start:start + batch]
+            result[chosen] = self._polygon_touches_exactly(
+                map_x[chosen], map_y[chosen], theta[chosen] - self._yaw, rows[chosen],
+                cols[chosen], corners, window)
+        return result
+
+    def _polygon_touches_exactly(self, map_x, map_y, heading, rows, cols, corners, window):
+        """Weigh each occupied cell in reach against the polygon, in the map's frame."""
+        cell_rows = rows[:, None] + self._window_rows[None, :window]
+        cell_cols = cols[:, None] + self._window_cols[None, :window]
+        pose, cell = np.nonzero(self._padded[cell_rows + self._pad, cell_cols + self._pad])
+        touched = np.zeros(map_x.size, dtype=bool)
+        if pose.size == 0:
+            return touched
+        cos_heading, sin_heading = np.cos(heading)[:, None], np.sin(heading)[:, None]
+        corner_x = map_x[:, None] + cos_heading * corners[:, 0] - sin_heading * corners[:, 1]
+        corner_y = map_y[:, None] + sin_heading * corners[:, 0] + cos_heading * corners[:, 1]
+        start_x, start_y = corner_x[pose], corner_y[pose]
+        end_x, end_y = np.roll(start_x, -1, axis=1), np.roll(start_y, -1, axis=1)
+        left = (cell_cols[pose, cell] * self.resolution)[:, None] + GAP_SLACK
+        bottom = (cell_rows[pose, cell] * self.resolution)[:, None] + GAP_SLACK
+        right = left + (self.resolution - 2.0 * GAP_SLACK)
+        top = bottom + (self.resolution - 2.0 * GAP_SLACK)
+        enters = np.any(segments_enter_boxes(start_x, start_y, end_x, end_y, left, right,
+                                             bottom, top), axis=1)
+        centre_inside = inside_polygons(0.5 * (left + right)[:, 0], 0.5 * (bottom + top)[:, 0],
+                                        start_x, start_y, end_x, end_y)
+        touched[pose[enters | centre_inside]] = True
+        return touched
+
+
+def segments_enter_boxes(start_x: np.ndarray, start_y: np.ndarray, end_x: np.ndarray,
+                         end_y: np.ndarray, left: ArrayLike, right: ArrayLike, bottom: ArrayLike,
+                         top: ArrayLike) -> np.ndarray:
+    """
+    Return whether each segment has points strictly inside its axis-aligned box.
+
+    Liang and Barsky's clipping: the part of the segment within both slabs of the box is
+    non-empty. Every argument broadcasts against the others.
+    """
+    enter = np.zeros(np.broadcast(start_x, left).shape)
+    leave = np.ones_like(enter)
+    for start, end, low, high in ((start_x, end_x, left, right), (start_y, end_y, bottom, top)):
+        delta = end - start
+        flat = delta == 0.0
+        within = (start > low) & (start < high)
+        with np.errstate(divide='ignore', invalid='ignore'):
+            at_low, at_high = (low - start) / delta, (high - start) / delta
+        enter = np.maximum(enter, np.where(flat, np.where(within, -np.inf, np.inf),
+                                           np.minimum(at_low, at_high)))
+        leave = np.minimum(leave, np.where(flat, np.where(within, np.inf, -np.inf),
+                                           np.maximum(at_low, at_high)))
+    return enter < leave
+
+
+def inside_polygons(x: np.ndarray, y: np.ndarray, start_x: np.ndarray, start_y: np.ndarray,
+                    end_x: np.ndarray, end_y: np.ndarray) -> np.ndarray:
+    """
+    Return whether each point (x[i], y[i]) lies inside polygon i, given by its edges' ends.
+
+    The even-odd rule: a ray from the point crosses the polygon's edges an odd number of
+    times.
+    """
+    x, y = x[:, None], y[:, None]
+    straddles = (start_y > y) != (end_y > y)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        crossing_x = start_x + (y - start_y) * (end_x - start_x) / (end_y - start_y)
+    return np.count_nonzero(straddles & (x < crossing_x), axis=1) % 2 == 1

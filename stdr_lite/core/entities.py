@@ -2,7 +2,6 @@
 
 from dataclasses import dataclass, field
 import enum
-import math
 
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import RobotDescription
@@ -28,17 +27,25 @@ class Category(enum.Enum):
 
 @dataclass(frozen=True)
 class SimulationSettings:
-    """How the world is stepped and measured; SI units. odom_rate_hz 0 is every step."""
+    """
+    How the world is stepped and measured; SI units.
+
+    odom_rate_hz 0 is every step; a speed limit of 0 is none, as in STDR (commands.py keeps a
+    safety bound); sensor_noise False reads every sensor without its described noise, as STDR
+    does.
+    """
 
     rate_hz: float = 50.0
     integrator: str = 'euler'
-    max_linear_speed: float = 2.0
-    max_angular_speed: float = math.pi
+    max_linear_speed: float = 0.0
+    max_angular_speed: float = 0.0
     cmd_vel_timeout: float = 0.0
     sensor_seed: int = 0
+    sensor_noise: bool = True
     odom_rate_hz: float = 0.0
     odometry_noise: OdometryNoise = OdometryNoise()
     odom_seed: int = 0
+    motion_seed: int = 0
 
 
 class PeriodicSchedule:
@@ -74,7 +81,8 @@ class SimulatedEntity:
     A robot or an obstacle, besides its state in the World's arrays.
 
     start_pose is where a reset puts it back; spawned marks entities added while running,
-    which a reset of spawned entities removes. A robot's topics sit under its namespace.
+    which a reset of spawned entities removes. A robot's topics sit under its namespace;
+    motion_noise is the generator of its motion noise, if its kinematics has any.
     """
 
     name: str
@@ -85,10 +93,16 @@ class SimulatedEntity:
     description: RobotDescription | None = None
     namespace: str = ''
     sensors: list = field(default_factory=list)
+    motion_noise: object = None
 
     @property
     def is_robot(self) -> bool:
         return self.category is Category.ROBOT
+
+    @property
+    def shape(self) -> tuple | None:
+        """Return a polygonal robot's corners (in its frame), or None for a circle."""
+        return self.description.points or None if self.description is not None else None
 
 
 def sensors_of(description: RobotDescription, now_ns: int) -> list[ScheduledSensor]:

@@ -8,6 +8,8 @@ robot's frame. No ROS here.
 import math
 
 import numpy as np
+import shapely
+from shapely.geometry.polygon import orient
 
 
 def polygon_problem(points: list) -> str | None:
@@ -42,3 +44,9 @@ def placed(points: tuple, pose: tuple) -> np.ndarray:
     cos_theta, sin_theta = math.cos(pose[2]), math.sin(pose[2])
     return np.column_stack([pose[0] + cos_theta * corners[:, 0] - sin_theta * corners[:, 1],
                             pose[1] + sin_theta * corners[:, 0] + cos_theta * corners[:, 1]])
+
+
+def convex_hull(points: tuple) -> list[tuple[float, float]]:
+    """Return the corners of the polygon's convex hull, counter-clockwise, none repeated."""
+    hull = orient(shapely.convex_hull(shapely.MultiPoint(points)))
+    return [(float(x), float(y)) for x, y in shapely.get_coordinates(hull)[:-1]]

@@ -8,7 +8,8 @@ step that moves by d metres and turns by a radians is measured as
     d' = d + N(0, distance**2 * |d|)
     a' = a + N(0, turn**2 * |a| + heading_per_distance**2 * |d|)
 
-and integrated along the arc's mean heading. The pose covariance is propagated with the same
+and integrated along the arc's mean heading; an omni robot's sideways distance takes the same
+error as its forward one. The pose covariance is propagated with the same
 model (linearised), so it grows as the robot drives and says how far the odometry may be off.
 With every coefficient zero the odometry is the true pose, exactly, whatever happens to it.
 """
@@ -42,7 +43,9 @@ class OdometryReading:
     """
     One robot's odometry: pose in its odom frame, measured velocity, and their spread.
 
-    exact marks a reading known to have no spread at all, so its zeros need no looking at.
+    The velocity and its variance are (linear, lateral, angular): lateral is an omni robot's
+    sideways velocity, zero for a unicycle's. exact marks a reading known to have no spread at
+    all, so its zeros need no looking at.
     """
 
     pose: tuple
@@ -70,8 +73,8 @@ class Odometry:
         self.reseed(seed)
         self.poses = np.empty((0, 3))
         self._covariances = np.empty((0, 3, 3))
-        self._velocities = np.empty((0, 2))
-        self._variances = np.empty((0, 2))
+        self._velocities = np.empty((0, 3))
+        self._variances = np.empty((0, 3))
 
     def reseed(self, seed: int) -> None:
         """Start the noise over, so a run from here repeats a run from the start."""
@@ -80,8 +83,8 @@ class Odometry:
     def add_robot(self, pose: tuple) -> None:
         self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])
         self._covariances = np.concatenate([self._covariances, np.zeros((1, 3, 3))])
-        self._velocities = np.vstack([self._velocities, np.zeros(2)])
-        self._variances = np.vstack([self._variances, np.zeros(2)])
+        self._velocities = np.vstack([self._velocities, np.zeros(3)])
+        self._variances = np.vstack([self._variances, np.zeros(3)])
 
     def remove_robot(self, index: int) -> None:
         self.poses = np.delete(self.poses, index, axis=0)
@@ -89,8 +92,8 @@ class Odometry:
         self._velocities = np.delete(self._velocities, index, axis=0)
         self._variances = np.delete(self._variances, index, axis=0)
 
-    def advance(self, true_poses: np.ndarray, linear: np.ndarray, angular: np.ndarray,
-                dt: float) -> None:
+    def advance(self, true_poses: np.ndarray, linear: np.ndarray, lateral: np.ndarray,
+                angular: np.ndarray, dt: float) -> None:
         """
         Measure one step in which the robots drove at the given velocities.
 
@@ -98,43 +101,48 @@ class Odometry:
         """
         if not self.noise.enabled:
             self.poses = np.array(true_poses, dtype=float)
-            self._velocities = np.column_stack([linear, angular])
+            self._velocities = np.column_stack([linear, lateral, angular])
             return
-        distance, turn = np.asarray(linear) * dt, np.asarray(angular) * dt
+        distance, sideways = np.asarray(linear) * dt, np.asarray(lateral) * dt
+        turn = np.asarray(angular) * dt
         variance_distance = self.noise.distance ** 2 * np.abs(distance)
+        variance_sideways = self.noise.distance ** 2 * np.abs(sideways)
         variance_turn = (self.noise.turn ** 2 * np.abs(turn)
-                         + self.noise.heading_per_distance ** 2 * np.abs(distance))
-        distance = distance + np.sqrt(variance_distance) * self._rng.standard_normal(len(turn))
-        turn = turn + np.sqrt(variance_turn) * self._rng.standard_normal(len(turn))
-        self._propagate(distance, turn, variance_distance, variance_turn)
-        self._velocities = np.column_stack([distance, turn]) / dt
-        self._variances = np.column_stack([variance_distance, variance_turn]) / dt ** 2
+                         + self.noise.heading_per_distance ** 2 * (np.abs(distance)
+                                                                   + np.abs(sideways)))
+        count = len(turn)
+        distance = distance + np.sqrt(variance_distance) * self._rng.standard_normal(count)
+        turn = turn + np.sqrt(variance_turn) * self._rng.standard_normal(count)
+        if sideways.any():
+            sideways = sideways + np.sqrt(variance_sideways) * self._rng.standard_normal(count)
+        variances = np.column_stack([variance_distance, variance_sideways, variance_turn])
+        self._propagate(distance, sideways, turn, variances)
+        self._velocities = np.column_stack([distance, sideways, turn]) / dt
+        self._variances = variances / dt ** 2
 
-    def _propagate(self, distance, turn, variance_distance, variance_turn):
+    def _propagate(self, distance, sideways, turn, variances):
         """Integrate the measured step along its mean heading and carry the covariance along."""
         heading = self.poses[:, 2] + 0.5 * turn
         cos_heading, sin_heading = np.cos(heading), np.sin(heading)
+        step_x = distance * cos_heading - sideways * sin_heading
+        step_y = distance * sin_heading + sideways * cos_heading
         count = len(distance)
         motion = np.tile(np.eye(3), (count, 1, 1))
-        motion[:, 0, 2] = -distance * sin_heading
-        motion[:, 1, 2] = distance * cos_heading
-        noise = np.zeros((count, 3, 2))
+        motion[:, 0, 2], motion[:, 1, 2] = -step_y, step_x
+        noise = np.zeros((count, 3, 3))
         noise[:, 0, 0], noise[:, 1, 0] = cos_heading, sin_heading
-        noise[:, 0, 1] = -0.5 * distance * sin_heading
-        noise[:, 1, 1] = 0.5 * distance * cos_heading
-        noise[:, 2, 1] = 1.0
-        spread = np.zeros((count, 2, 2))
-        spread[:, 0, 0], spread[:, 1, 1] = variance_distance, variance_turn
+        noise[:, 0, 1], noise[:, 1, 1] = -sin_heading, cos_heading
+        noise[:, 0, 2], noise[:, 1, 2] = -0.5 * step_y, 0.5 * step_x
+        noise[:, 2, 2] = 1.0
+        spread = np.zeros((count, 3, 3))
+        spread[:, 0, 0], spread[:, 1, 1], spread[:, 2, 2] = variances.T
         self._covariances = (motion @ self._covariances @ motion.transpose(0, 2, 1)
                              + noise @ spread @ noise.transpose(0, 2, 1))
-        self.poses = self.poses + np.column_stack([distance * cos_heading,
-                                                   distance * sin_heading, turn])
+        self.poses = self.poses + np.column_stack([step_x, step_y, turn])
         self.poses[:, 2] = np.remainder(self.poses[:, 2] + np.pi, 2.0 * np.pi) - np.pi
 
     def reading(self, index: int) -> OdometryReading:
         x, y, theta = self.poses[index].tolist()
-        linear, angular = self._velocities[index].tolist()
-        variance_linear, variance_angular = self._variances[index].tolist()
-        return OdometryReading((x, y, theta), (linear, angular),
+        return OdometryReading((x, y, theta), tuple(self._velocities[index].tolist()),
                                self._covariances[index].copy(),
-                               (variance_linear, variance_angular))
+                               tuple(self._variances[index].tolist()))

@@ -78,19 +78,22 @@ class SimulationQueries:
         x, y, theta = self.world.poses[self._index(name)].tolist()
         return x, y, theta
 
-    def applied_velocity(self, name: str) -> tuple[float, float]:
-        """Return the (linear, angular) velocity of the last step: zero while blocked."""
+    def applied_velocity(self, name: str) -> tuple[float, float, float]:
+        """Return the (linear, lateral, angular) velocity of the last step: zero if blocked."""
         index = self._index(name)
-        return float(self._applied[0][index]), float(self._applied[1][index])
+        linear, lateral, angular = (float(values[index]) for values in self._applied)
+        return linear, lateral, angular
 
     def velocity(self, name: str) -> tuple[float, float, float]:
         """Return the (x, y, angular) velocity of the last step in the map frame."""
         index = self._index(name)
-        linear, angular = self.applied_velocity(name)
+        linear, lateral, angular = self.applied_velocity(name)
         heading = self._motion[index, 2]
         if math.isnan(heading):
             heading = float(self.world.poses[index, 2])
-        return linear * math.cos(heading), linear * math.sin(heading), angular
+        cos_heading, sin_heading = math.cos(heading), math.sin(heading)
+        return (linear * cos_heading - lateral * sin_heading,
+                linear * sin_heading + lateral * cos_heading, angular)
 
     def odometry_due(self) -> bool:
         """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
@@ -109,7 +112,7 @@ class SimulationQueries:
     def ground_truth(self, name: str) -> OdometryReading:
         """Return the robot's true pose in the map frame and its applied velocity, exactly."""
         return OdometryReading(self.pose(name), self.applied_velocity(name), NO_SPREAD,
-                               (0.0, 0.0), exact=True)
+                               (0.0, 0.0, 0.0), exact=True)
 
     def map_to_odom(self, name: str) -> tuple[float, float, float]:
         """
@@ -142,7 +145,8 @@ class SimulationQueries:
     def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
         return read_sensors(self._terrain.finder, self.world.poses, self.world.radii,
-                            [(self._index(name), spec) for name, spec in jobs], self._noise)
+                            self.world.shapes, [(self._index(name), spec) for name, spec in jobs],
+                            self._noise)
 
     def _index(self, name: str) -> int:
         try:

@@ -18,7 +18,7 @@ Lengths are metres, angles radians, frequencies hertz. The sensors STDR knows bu
 not simulate are kept by name (unsimulated), never refused and never dropped without a word.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import os
 
@@ -128,6 +128,13 @@ class RobotDescription:
     points: tuple = ()
     kinematic: Kinematic = Kinematic()
     unsimulated: tuple = ()
+
+
+def without_sensor_noise(description: RobotDescription) -> RobotDescription:
+    """Return the description with every laser and sonar noiseless, as STDR reads them."""
+    return replace(description,
+                   lasers=tuple(replace(spec, noise=Noise()) for spec in description.lasers),
+                   sonars=tuple(replace(spec, noise=Noise()) for spec in description.sonars))
 
 
 def load_robot(path: str | os.PathLike, search_path: tuple = ()) -> RobotDescription:

@@ -4,8 +4,8 @@ Range sensors, vectorized: every ray of every laser and sonar in one batch.
 Walls are found by sphere tracing on a clearance field: each ray advances by the distance to
 the nearest occupied cell (never less than half a cell), so it crosses open space in a few
 strides and stops within half a cell past the boundary of the first occupied cell it enters.
-Other robots are circles, met exactly. Readings follow REP-117: no return within max_range is
-+inf, a return closer than min_range is -inf.
+Other bodies are met exactly: circles, and the edges of polygonal robots. Readings follow
+REP-117: no return within max_range is +inf, a return closer than min_range is -inf.
 """
 
 import functools
@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.collision import wall_distances
+from stdr_lite.core.footprints import placed
 from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 GRAZING_STRIDES = 4
@@ -48,19 +49,22 @@ class RangeFinder:
         inside[occupancy_map.occupied] = -1.0
 
     def cast(self, x: ArrayLike, y: ArrayLike, angle: ArrayLike, max_range: ArrayLike,
-             circles: tuple | None = None) -> np.ndarray:
+             circles: tuple | None = None, edges: tuple | None = None) -> np.ndarray:
         """
-        Return the distance along each ray to the first wall or circle, inf beyond max_range.
+        Return the distance along each ray to the first wall or body, inf beyond max_range.
 
         x, y, angle and max_range broadcast to one value per ray; circles is (cx, cy, radius)
         arrays plus, per ray, the index of a circle to ignore (the robot carrying the sensor),
-        or None.
+        or None; edges is (start_x, start_y, end_x, end_y, owner) arrays of polygon edges
+        plus, per ray, the owner whose edges it ignores, or None.
         """
         x, y, angle, max_range = (np.array(value, dtype=float).ravel() for value in
                                   np.broadcast_arrays(x, y, angle, max_range))
         distance = self._cast_at_walls(x, y, np.cos(angle), np.sin(angle), max_range)
         if circles is not None:
             distance = np.minimum(distance, _cast_at_circles(x, y, angle, *circles))
+        if edges is not None:
+            distance = np.minimum(distance, _cast_at_edges(x, y, angle, *edges))
         return np.where(distance <= max_range, distance, np.inf)
 
     def _cast_at_walls(self, x, y, cos_angle, sin_angle, max_range):
@@ -148,6 +152,22 @@ def _cast_at_circles(x, y, angle, centre_x, centre_y, radius, ignored):
     return np.min(np.where(usable, entry, np.inf), axis=1)
 
 
+def _cast_at_edges(x, y, angle, start_x, start_y, end_x, end_y, owner, ignored):
+    """Return the distance along each ray to the nearest edge ahead (inf if none)."""
+    if len(owner) == 0:
+        return np.full(x.shape, np.inf)
+    direction_x, direction_y = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    edge_x, edge_y = (end_x - start_x)[None, :], (end_y - start_y)[None, :]
+    offset_x, offset_y = start_x[None, :] - x[:, None], start_y[None, :] - y[:, None]
+    denominator = direction_x * edge_y - direction_y * edge_x
+    with np.errstate(divide='ignore', invalid='ignore'):
+        along = (offset_x * edge_y - offset_y * edge_x) / denominator
+        where = (offset_x * direction_y - offset_y * direction_x) / denominator
+    usable = (denominator != 0.0) & (along >= 0.0) & (where >= 0.0) & (where <= 1.0)
+    usable &= np.asarray(owner)[None, :] != np.asarray(ignored)[:, None]
+    return np.min(np.where(usable, along, np.inf), axis=1)
+
+
 def sensor_origin(robot_pose: tuple, sensor_pose: tuple) -> tuple[float, float, float]:
     """Return the world pose (x, y, heading) of a sensor mounted at sensor_pose on a robot."""
     x, y, theta = robot_pose
@@ -191,13 +211,14 @@ def apply_noise_and_limits(distances: ArrayLike, means: np.ndarray, stds: np.nda
     return distances
 
 
-def read_sensors(finder: RangeFinder, poses: np.ndarray, radii: np.ndarray, jobs: list,
-                 rng: np.random.Generator) -> list:
+def read_sensors(finder: RangeFinder, poses: np.ndarray, radii: np.ndarray, shapes: list,
+                 jobs: list, rng: np.random.Generator) -> list:
     """
     Read several sensors at once; jobs are (robot index, LaserSpec or SonarSpec) pairs.
 
-    Every robot is an obstacle to every sensor but its own. Returns, per job, the laser's
-    ranges or the sonar's single range (the nearest return across its cone), noise and
+    Every body is an obstacle to every sensor but its own robot's: a circle of its radius, or
+    the polygon of its shape (corners in its frame; None for a circle). Returns, per job, the
+    laser's ranges or the sonar's single range (the nearest return across its cone), noise and
     REP-117 limits applied.
     """
     if not jobs:
@@ -209,12 +230,22 @@ def read_sensors(finder: RangeFinder, poses: np.ndarray, radii: np.ndarray, jobs
     specs = [spec for _, spec in jobs]
     per_job = {name: np.array([getattr(spec, name) for spec in specs])
                for name in ('min_range', 'max_range')}
+    owners = np.repeat([index for index, _ in jobs], sizes)
+    polygonal = np.array([shape is not None for shape in shapes], dtype=bool)
+    # A polygon is met by its edges, not its circle: a NaN radius meets no ray.
+    circle_radii = np.where(polygonal, np.nan, radii)
+    edges = None
+    if polygonal.any():
+        corners = [placed(shapes[index], poses[index]) for index in np.flatnonzero(polygonal)]
+        ends = [np.roll(points, -1, axis=0) for points in corners]
+        edges = (*np.concatenate(corners).T, *np.concatenate(ends).T,
+                 np.repeat(np.flatnonzero(polygonal), [len(points) for points in corners]),
+                 owners)
     distances = finder.cast(
         np.repeat(origins[:, 0], sizes), np.repeat(origins[:, 1], sizes),
         np.repeat(origins[:, 2], sizes) + np.concatenate(relative),
         np.repeat(per_job['max_range'], sizes),
-        circles=(poses[:, 0], poses[:, 1], radii,
-                 np.repeat([index for index, _ in jobs], sizes)))
+        circles=(poses[:, 0], poses[:, 1], circle_radii, owners), edges=edges)
     is_laser = np.array([isinstance(spec, LaserSpec) for spec in specs])
     nearest = np.minimum.reduceat(distances, starts)
     means = np.array([spec.noise.mean for spec in specs])

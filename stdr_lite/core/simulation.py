@@ -11,8 +11,10 @@ poses, readings) are its base class's, in queries.py.
 """
 
 from contextlib import contextmanager
+from dataclasses import replace
 import math
 from typing import Iterable
+import zlib
 
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
@@ -21,10 +23,10 @@ from stdr_lite.core.commands import CommandBuffer, CommandOutcome
 from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
                                      SimulationSettings)
-from stdr_lite.core.motion import motion_for
+from stdr_lite.core.motion import motion_for, noisy_command
 from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.queries import SimulationQueries
-from stdr_lite.core.robot_description import RobotEntry
+from stdr_lite.core.robot_description import RobotEntry, without_sensor_noise
 from stdr_lite.core.terrain import survey, Terrain
 from stdr_lite.core.world import PlacementError, World
 
@@ -34,7 +36,9 @@ LARGEST_ADDED_RADIUS = 0.5
 
 class Simulation(SimulationQueries):
     """
-    Unicycle robots and circular obstacles in one map, stepped together every dt = 1/rate_hz.
+    Robots (unicycles or omni robots, round or polygonal) and obstacles, stepped every dt.
+
+    Everything stands in one map and advances together every dt = 1/rate_hz.
 
     Each robot holds its last valid command until the next (as STDR does), or stops once the
     command is older than cmd_vel_timeout when that is positive; a moving obstacle keeps the
@@ -77,7 +81,8 @@ class Simulation(SimulationQueries):
         self._commands = CommandBuffer(0, self.settings.max_linear_speed,
                                        self.settings.max_angular_speed,
                                        self.settings.cmd_vel_timeout)
-        self._applied = (np.zeros(0), np.zeros(0))
+        # The velocities of the last step (linear, lateral, angular): zero for a blocked body.
+        self._applied = (np.zeros(0), np.zeros(0), np.zeros(0))
         self._odometry = Odometry(self.settings.odometry_noise, self.settings.odom_seed)
         # A moving obstacle's speed, turn rate and direction of travel (NaN: none).
         self._motion = np.empty((0, 3))
@@ -86,6 +91,8 @@ class Simulation(SimulationQueries):
         self.step_count = 0
         self._noise = np.random.default_rng(self.settings.sensor_seed)
         self._odometry.reseed(self.settings.odom_seed)
+        for entity in self._entities:
+            entity.motion_noise = self._motion_noise(entity.name, entity.description)
         self._odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
         self.answers = Answers()
         for entity in self._entities:
@@ -107,6 +114,8 @@ class Simulation(SimulationQueries):
         either way nothing changes.
         """
         self._check_new_name(entry.name)
+        if not self.settings.sensor_noise:
+            entry = replace(entry, description=without_sensor_noise(entry.description))
         namespace = namespace.strip('/') or entry.name
         if not all(is_ros_name(token) for token in namespace.split('/')):
             raise NamespaceError(f'namespace {shorten(repr(namespace))} is not a ROS namespace')
@@ -120,7 +129,19 @@ class Simulation(SimulationQueries):
                                    f'{compact(self.settings.rate_hz)})')
         self._append(SimulatedEntity(entry.name, Category.ROBOT, entry.description.radius,
                                      entry.pose, spawned, entry.description, namespace,
-                                     sensors_of(entry.description, self.time_ns)))
+                                     sensors_of(entry.description, self.time_ns),
+                                     self._motion_noise(entry.name, entry.description)))
+
+    def _motion_noise(self, name, description):
+        """
+        Return the generator of a robot's motion noise, if its kinematics has any.
+
+        Each robot has its own, seeded from motion_seed and its name, so its noise does not
+        depend on the order in which the robots' commands arrive.
+        """
+        if description is None or not description.kinematic.noisy:
+            return None
+        return np.random.default_rng([self.settings.motion_seed, zlib.crc32(name.encode())])
 
     def add_obstacle(self, name: str, radius: float, pose: tuple, moving: bool = False,
                      spawned: bool = True) -> None:
@@ -141,7 +162,7 @@ class Simulation(SimulationQueries):
 
     def _append(self, entity):
         with self._naming_overlaps():
-            self.world.add_robot(entity.start_pose, entity.radius)
+            self.world.add_robot(entity.start_pose, entity.radius, entity.shape)
         self._commands.add_robot()
         self._applied = tuple(np.append(values, 0.0) for values in self._applied)
         self._odometry.add_robot(entity.start_pose)
@@ -173,14 +194,28 @@ class Simulation(SimulationQueries):
         with self._naming_overlaps():
             self.world.move_robot(index, pose)
 
-    def command(self, name: str, linear: float, angular: float) -> CommandOutcome:
-        """Hold (linear m/s, angular rad/s) for the robot from now on, clamped to the limits."""
-        index = self._index(self.robot(name).name)
-        if not (math.isfinite(linear) and math.isfinite(angular)):
+    def command(self, name: str, linear: float, angular: float,
+                lateral: float = 0.0) -> CommandOutcome:
+        """
+        Hold (linear m/s, angular rad/s, lateral m/s) for the robot from now on.
+
+        The command meets the speed limits, then the robot's motion noise if it has any (drawn
+        once per command, as STDR does); lateral (linear.y) moves an omni robot only.
+        """
+        robot = self.robot(name)
+        index = self._index(name)
+        if not all(map(math.isfinite, (linear, angular, lateral))):
             return CommandOutcome.IGNORED
-        clamped = self._commands.exceeds_limits(linear, angular)
-        self._commands.update(index, linear, angular, self.sim_time)
-        return CommandOutcome.CLAMPED if clamped else CommandOutcome.APPLIED
+        command, outcome = self._commands.limited(linear, lateral, angular)
+        if robot.motion_noise is not None:
+            command = noisy_command(command, robot.description.kinematic.parameters,
+                                    robot.motion_noise)
+        if robot.description.kinematic.model != 'omni':
+            if lateral != 0.0 and outcome is CommandOutcome.APPLIED:
+                outcome = CommandOutcome.NOT_OMNI
+            command = (command[0], 0.0, command[2])
+        self._commands.update(index, command, self.sim_time)
+        return outcome
 
     def set_velocity(self, name: str, x: float, y: float, angular: float) -> None:
         """
@@ -194,24 +229,27 @@ class Simulation(SimulationQueries):
     def set_state(self, name: str, pose: tuple, velocity: tuple) -> None:
         """Teleport an entity and set its velocity (as set_velocity), both or neither."""
         entity, index = self.entity(name), self._index(name)
-        motion = motion_for(entity.category, pose[2], *velocity, self.settings)
+        omni = entity.is_robot and entity.description.kinematic.model == 'omni'
+        motion = motion_for(entity.category, pose[2], *velocity, self.settings, omni)
         self.teleport(name, pose)
         if entity.is_robot:
-            self.command(name, motion.linear, motion.angular)
+            self.command(name, motion.linear, motion.angular, motion.lateral)
         else:
             self._motion[index] = (motion.linear, motion.angular,
                                    np.nan if motion.heading is None else motion.heading)
 
     def step(self) -> None:
         """Advance every entity by dt: robots under their held commands, obstacles as set."""
-        linear, angular = self._commands.current(self.sim_time)
+        linear, lateral, angular = self._commands.current(self.sim_time)
         sliding = ~np.isnan(self._motion[:, 2])
         headings = None
         if sliding.any():
             linear = np.where(sliding, self._motion[:, 0], linear)
             angular = np.where(sliding, self._motion[:, 1], angular)
             headings = self._motion[:, 2]
-        self._applied = self.world.step(linear, angular, self.dt, headings)
+        moved = self.world.step(linear, angular, self.dt, headings, lateral)
+        self._applied = tuple(np.where(moved, values, 0.0)
+                              for values in (linear, lateral, angular))
         if self._odometry.noise.enabled:
             self._odometry.advance(self.world.poses, *self._applied, self.dt)
         self.step_count += 1
@@ -251,7 +289,7 @@ class Simulation(SimulationQueries):
                       terrain.checker)
         for entity in entities:
             try:
-                trial.add_robot(entity.start_pose, entity.radius)
+                trial.add_robot(entity.start_pose, entity.radius, entity.shape)
             except PlacementError as error:
                 reason = str(error)
                 if error.overlapped is not None:

@@ -1,9 +1,10 @@
 """
 What can be spawned, and reading what a spawn request asks for. No ROS here.
 
-A resource is an STDR robot file (format stdr_robot_yaml, as robot_description takes) or a
-circular obstacle (format stdr_lite_obstacle_yaml: {obstacle: {radius: m, moving: bool}}),
-given as text or by URI: a file's path or file:// URI, or the name of a bundled spawnable.
+A resource is an STDR robot file (formats stdr_robot_yaml and stdr_robot_xml: any layout
+robot_description takes) or a circular obstacle (format stdr_lite_obstacle_yaml:
+{obstacle: {radius: m, moving: bool}}), given as text or by URI: a file's path or file:// URI,
+or the name of a bundled spawnable.
 """
 
 from dataclasses import dataclass
@@ -15,9 +16,7 @@ from simple_robot_control.validation import Bounds, describe, is_finite_number, 
 from stdr_lite.core.robot_description import (parse_robot_text, robot_from_yaml,
                                               RobotDescription, RobotFileError)
 
-ROBOT_FORMAT = 'stdr_robot_yaml'
-OBSTACLE_FORMAT = 'stdr_lite_obstacle_yaml'
-SPAWN_FORMATS = (ROBOT_FORMAT, OBSTACLE_FORMAT)
+SPAWN_FORMATS = ('stdr_robot_yaml', 'stdr_robot_xml', 'stdr_lite_obstacle_yaml')
 OBSTACLE_RADIUS = Bounds(0.0, 0.5, low_open=True)
 
 
@@ -67,7 +66,7 @@ def load_resource(uri: str, resource_string: str, bundled: dict,
         path = path_of(uri, bundled)
         if not path.endswith(('.yaml', '.yml', '.xml')):
             raise SpawnResourceError('unsupported_format', f'{shorten(uri)}: spawn formats are '
-                                     f'{" and ".join(SPAWN_FORMATS)} (YAML or XML files)')
+                                     f'{", ".join(SPAWN_FORMATS)} (YAML or XML files)')
         if not os.path.exists(path):
             raise SpawnResourceError('missing_assets', f'{shorten(uri)}: no such file')
         try:

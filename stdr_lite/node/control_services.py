@@ -41,9 +41,10 @@ IMPLEMENTED = [
     FEATURES.STEP_SIMULATION_SINGLE, FEATURES.STEP_SIMULATION_MULTIPLE,
     FEATURES.STEP_SIMULATION_ACTION, FEATURES.WORLD_LOADING, FEATURES.WORLD_UNLOADING,
     FEATURES.WORLD_INFO_GETTING, FEATURES.AVAILABLE_WORLDS, FEATURES.SPAWNING_ENTITIES]
-CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of unicycle robots and circular '
-               'obstacles. Entities are robots (STDR robot YAML) and obstacles; worlds are '
-               'map_server maps. See doc/simulation_api.md of simple_robot_control.')
+CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of robots (unicycles or omni, round '
+               'or polygonal) and circular obstacles. Entities are robots (STDR robot files, '
+               'XML or YAML) and obstacles; worlds are map_server maps. See '
+               'doc/simulation_api.md of simple_robot_control.')
 STATE = SimulationState
 
 

@@ -23,6 +23,7 @@ from simulation_interfaces.srv import (DeleteEntity, GetEntities, GetEntitiesSta
                                        GetEntityBounds, GetEntityInfo, GetEntityState,
                                        GetSpawnables, SetEntityState, SpawnEntities, SpawnEntity)
 from stdr_lite.core.entities import Category, NamespaceError, RequestError
+from stdr_lite.core.footprints import convex_hull
 from stdr_lite.core.regions import region_test
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
@@ -229,7 +230,13 @@ class EntityServices:
         self._node.show_state()
 
     def _bounds(self, request, response):
-        radius = self._entity(request.entity).radius
+        """Give a round entity's square box, or a polygonal robot's convex hull, in its frame."""
+        entity = self._entity(request.entity)
+        if entity.shape is not None:
+            response.bounds = Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
+                Vector3(x=x, y=y) for x, y in convex_hull(entity.shape)])
+            return
+        radius = entity.radius
         response.bounds = Bounds(type=Bounds.TYPE_BOX, points=[
             Vector3(x=radius, y=radius), Vector3(x=-radius, y=-radius)])
 
@@ -297,8 +304,12 @@ def _description(entity):
     if not entity.is_robot:
         return f'{entity.category.value} of radius {compact(entity.radius)} m'
     sensors = ', '.join(sensor.spec.frame_id for sensor in entity.sensors) or 'no sensors'
-    return (f'robot of radius {compact(entity.radius)} m with {sensors}; topics under '
-            f'/{entity.namespace}')
+    shape = (f'of radius {compact(entity.radius)} m' if entity.shape is None
+             else f'of {len(entity.shape)} corners (within {compact(entity.radius)} m)')
+    kinematic = entity.description.kinematic
+    kind = 'omni-directional robot' if kinematic.model == 'omni' else 'robot'
+    noise = ', noisy motion' if kinematic.noisy else ''
+    return f'{kind} {shape} with {sensors}{noise}; topics under /{entity.namespace}'
 
 
 def _spawnable(path, search_path):

@@ -1,17 +1,25 @@
 """
-The robots on the TF tree (REP-105), and the markers that show robots and obstacles in RViz.
+The robots on the TF tree (REP-105, or STDR's), and the markers that show robots and obstacles.
 
-For every robot r (its topic namespace, which is its name unless spawned with another):
-map -> r/odom -> r/base_link on /tf with each odometry, and r/base_link -> r/<sensor> on
-/tf_static from its description. map -> r/odom is what makes the
+For every robot r (its topic namespace, which is its name unless spawned with another), in
+REP-105's tree: map -> r/odom -> r/base_link on /tf with each odometry, and
+r/base_link -> r/<sensor> on /tf_static from its description. map -> r/odom is what makes the
 chain end at the true pose, as a perfect localiser would publish it: the identity while the
-odometry is exact. Obstacles have no frames; their markers stand in the map frame.
+odometry is exact. In STDR's tree (frame_style stdr): map -> map_static, the map's origin, on
+/tf_static; map_static -> r, the true pose, on /tf; r -> r_<sensor> on /tf_static; and the
+odometry is expressed in map_static. Obstacles have no frames; their markers stand in the map
+frame.
 """
 
+from dataclasses import replace
+
+import numpy as np
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from simple_robot_control.pose import compose, invert
 from stdr_lite.core.entities import Category
 from stdr_lite.node.messages import obstacle_markers, robot_markers, transform
+from stdr_lite.node.parameters import STDR_STATIC_FRAME
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -65,18 +73,40 @@ class FramePublisher:
         self._entities_changed = self._obstacles_moved = False
 
     def publish_moving(self, simulation, time_ns):
-        """Publish map -> r/odom -> r/base_link for every robot, when anyone listens."""
+        """Publish every robot's moving frames, when anyone listens."""
         if not self._dynamic.get_subscription_count():
             return
         frames = self._frames
         transforms = []
+        from_origin = invert(simulation.occupancy_map.origin)
         for name in simulation.robot_names:
             prefix = simulation.entity(name).namespace
+            if frames.stdr:
+                transforms.append(transform(time_ns, STDR_STATIC_FRAME, frames.base(prefix),
+                                            compose(from_origin, simulation.pose(name))))
+                continue
             transforms.append(transform(time_ns, frames.map_frame, frames.odom(prefix),
                                         simulation.map_to_odom(name)))
             transforms.append(transform(time_ns, frames.odom(prefix), frames.base(prefix),
                                         simulation.odometry(name).pose))
         self._dynamic.publish(TFMessage(transforms=transforms))
+
+    def odometry_reading(self, simulation, name):
+        """
+        Return a robot's odometry as its message gives it.
+
+        That is in its odom frame (REP-105), or in map_static, the map's origin (STDR's), with
+        its pose covariance turned alike.
+        """
+        reading = simulation.odometry(name)
+        origin = simulation.occupancy_map.origin
+        if not self._frames.stdr or origin == (0.0, 0.0, 0.0):
+            return reading
+        turn = np.eye(3)
+        cos_yaw, sin_yaw = np.cos(-origin[2]), np.sin(-origin[2])
+        turn[:2, :2] = ((cos_yaw, -sin_yaw), (sin_yaw, cos_yaw))
+        return replace(reading, pose=compose(invert(origin), reading.pose),
+                       pose_covariance=turn @ reading.pose_covariance @ turn.T)
 
     def _publish_fixed(self, simulation):
         """
@@ -98,6 +128,9 @@ class FramePublisher:
                 marker.id = 3 * index + offset
             markers += fixed[2]
         self._fixed = shown
+        if self._frames.stdr:
+            transforms.append(transform(simulation.time_ns, self._frames.map_frame,
+                                        STDR_STATIC_FRAME, simulation.occupancy_map.origin))
         self._static.publish(TFMessage(transforms=transforms))
         self._markers.publish(MarkerArray(markers=markers))
 
@@ -108,7 +141,7 @@ class FramePublisher:
                             frames.sensor(robot.namespace, sensor.spec), sensor.spec.pose)
                   for sensor in robot.sensors]
         return mounts, robot_markers(robot.name, robot.description.radius,
-                                     frames.base(robot.namespace), 0)
+                                     frames.base(robot.namespace), 0, robot.description.points)
 
     def _publish_obstacles(self, simulation):
         """Publish every obstacle's markers where it stands now (latched, for late viewers)."""

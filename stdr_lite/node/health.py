@@ -1,4 +1,8 @@
-"""Warnings a running simulator owes its user: falling behind, and commands that would mix."""
+"""
+Warnings a running simulator owes its user: falling behind, and commands that would mix.
+
+(Commands of a type the robot does not read are command_types.py's.)
+"""
 
 import time
 
@@ -60,12 +64,4 @@ class HealthWatch:
                 self._node.get_logger().warn(
                     f'{topics.cmd_vel_topic} has {len(publishers)} publishers '
                     f'({", ".join(publishers)}): their commands mix; stop all but one',
-                    throttle_duration_sec=WARN_EVERY)
-            unread = sorted({(info.topic_type, endpoint_node(info)) for info in infos
-                             if info.topic_type != topics.command_type})
-            if unread:
-                self._node.get_logger().warn(
-                    f'{topics.cmd_vel_topic} has a publisher of {unread[0][0]} ({unread[0][1]}),'
-                    f' but this simulator reads {topics.command_type} there: its commands reach '
-                    'no robot (the parameter cmd_vel_stamped chooses the type)',
                     throttle_duration_sec=WARN_EVERY)

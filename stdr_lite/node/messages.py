@@ -2,7 +2,7 @@
 
 import array
 
-from geometry_msgs.msg import TransformStamped
+from geometry_msgs.msg import Point, TransformStamped
 from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.pose import set_pose, set_yaw
@@ -20,6 +20,7 @@ OBSTACLE_HEIGHT = 0.5
 # The marker namespace of an obstacle's body, by whether it can move.
 OBSTACLE_KINDS = {False: 'static_obstacle', True: 'moving_obstacle'}
 MARKER_HEIGHT = 0.1
+OUTLINE_WIDTH = 0.02
 # Places of x, y and yaw in a 6x6 covariance (x, y, z, roll, pitch, yaw).
 PLANAR = (0, 1, 5)
 
@@ -55,7 +56,8 @@ def fill_odometry(message, time_ns, reading):
     """
     set_stamp(message.header.stamp, time_ns)
     set_pose(message.pose.pose, *reading.pose)
-    message.twist.twist.linear.x, message.twist.twist.angular.z = reading.velocity
+    twist = message.twist.twist
+    twist.linear.x, twist.linear.y, twist.angular.z = reading.velocity
     if reading.exact or not (reading.pose_covariance.any() or any(reading.velocity_variance)):
         # Exact odometry: the zeros stay from the last time, unless a spread was written then
         # (its diagonal is never zero).
@@ -68,8 +70,8 @@ def fill_odometry(message, time_ns, reading):
         for column, column_place in enumerate(PLANAR):
             pose_covariance[6 * row_place + column_place] += float(
                 reading.pose_covariance[row, column])
-    twist_covariance[0] += reading.velocity_variance[0]
-    twist_covariance[35] += reading.velocity_variance[1]
+    for place, variance in zip((0, 7, 35), reading.velocity_variance):
+        twist_covariance[place] += variance
     message.pose.covariance = pose_covariance
     message.twist.covariance = twist_covariance
 
@@ -97,17 +99,24 @@ def fill_reading(message, reading):
         message.range = reading
 
 
-def robot_markers(name, radius, base_frame, marker_id):
+def robot_markers(name, radius, base_frame, marker_id, points=()):
     """
     Return the markers RViz shows for a robot: its footprint, its heading and its name.
 
-    They are drawn in the robot's own base frame, so RViz moves them with TF; marker_id is the
-    first of the three ids they take.
+    The footprint is a disc, or a polygon's outline (a closed line strip through points, its
+    corners). They are drawn in the robot's own base frame, so RViz moves them with TF;
+    marker_id is the first of the three ids they take.
     """
-    footprint = _marker(name, 'footprint', marker_id, base_frame, Marker.CYLINDER)
-    footprint.scale.x = footprint.scale.y = 2.0 * radius
-    footprint.scale.z = MARKER_HEIGHT
-    footprint.pose.position.z = 0.5 * MARKER_HEIGHT
+    if points:
+        footprint = _marker(name, 'footprint', marker_id, base_frame, Marker.LINE_STRIP)
+        footprint.scale.x = OUTLINE_WIDTH
+        footprint.points = [Point(x=float(x), y=float(y), z=0.5 * MARKER_HEIGHT)
+                            for x, y in (*points, points[0])]
+    else:
+        footprint = _marker(name, 'footprint', marker_id, base_frame, Marker.CYLINDER)
+        footprint.scale.x = footprint.scale.y = 2.0 * radius
+        footprint.scale.z = MARKER_HEIGHT
+        footprint.pose.position.z = 0.5 * MARKER_HEIGHT
     heading = _marker(name, 'heading', marker_id + 1, base_frame, Marker.ARROW)
     heading.scale.x, heading.scale.y, heading.scale.z = radius, 0.2 * radius, 0.2 * radius
     heading.pose.position.z = MARKER_HEIGHT

@@ -1,7 +1,6 @@
 """The stdr_lite node's parameters, and the simulation they describe."""
 
 from dataclasses import dataclass, replace
-import math
 import os
 
 from simple_robot_control.node_runtime import ConfigError, require
@@ -9,6 +8,7 @@ from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
+from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 from stdr_lite.core.kinematics import INTEGRATORS
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
@@ -16,6 +16,10 @@ from stdr_lite.core.robot_list import load_robot_list
 from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
 from stdr_lite.core.world import PlacementError
 
+FRAME_STYLES = ('rep105', 'stdr')
+# STDR's frame at the map's origin, in which its robots' poses are given.
+STDR_STATIC_FRAME = 'map_static'
+REP105_FRAMES = ('odom_frame_id', 'base_frame_id')
 RESOURCE_PATHS = ParameterSpec(
     'resource_paths', (), "folders where robot files' includes (filename elements) are looked "
     'for, after the folder above the robot file and beside the including file; the bundled '
@@ -43,15 +47,22 @@ PARAMETERS = (
                   'one in robot_description', Bounds(0.0, 10.0)),
     ParameterSpec('initial_pose', [1.0, 2.0, 0.0], 'start pose of that robot [x m, y m, theta '
                   'rad] in the map frame', constraints='off walls, on the map'),
-    ParameterSpec('max_linear_speed', 2.0, 'commands beyond this linear speed are clamped '
-                  '[m/s]', Bounds(0.0, 100.0, low_open=True)),
-    ParameterSpec('max_angular_speed', math.pi, 'commands beyond this angular speed are '
-                  'clamped [rad/s]', Bounds(0.0, 100.0, low_open=True)),
+    ParameterSpec('max_linear_speed', 0.0, 'commands beyond this linear speed are clamped '
+                  f'[m/s]; 0 clamps none (STDR), short of the safety bound of '
+                  f'{SAFETY_LINEAR_SPEED:g} m/s', Bounds(0.0, SAFETY_LINEAR_SPEED)),
+    ParameterSpec('max_angular_speed', 0.0, 'commands beyond this angular speed are clamped '
+                  f'[rad/s]; 0 clamps none (STDR), short of the safety bound of '
+                  f'{SAFETY_ANGULAR_SPEED:g} rad/s', Bounds(0.0, SAFETY_ANGULAR_SPEED)),
     ParameterSpec('cmd_vel_timeout', 0.0, 'stop a robot whose last command is older than '
                   'this [s of sim time]; 0 holds the last command forever (STDR)',
                   Bounds(0.0, 3600.0)),
     ParameterSpec('sensor_seed', 0, 'seed of the sensor noise, so that runs repeat',
                   NON_NEGATIVE),
+    ParameterSpec('sensor_noise', True, "add each sensor's described noise to its readings; "
+                  "false reads them without, as STDR does (its robot files' noise is never "
+                  'applied by STDR)'),
+    ParameterSpec('motion_seed', 0, "seed of the robots' motion noise (a robot file's "
+                  'kinematic parameters), so that runs repeat', NON_NEGATIVE),
     ParameterSpec('odom_rate_hz', 0.0, 'odometry, ground truth and TF published this often '
                   '[Hz of sim time]; 0 publishes every step. In lockstep the controller answers '
                   'each odometry published', Bounds(0.0, 1000.0),
@@ -67,6 +78,10 @@ PARAMETERS = (
                   NON_NEGATIVE),
     ParameterSpec('cmd_vel_stamped', False, 'take commands as geometry_msgs/TwistStamped (as '
                   'Nav2 sends from Kilted on) instead of geometry_msgs/Twist'),
+    ParameterSpec('frame_style', 'rep105', "the TF tree: 'rep105' map -> <robot>/odom -> "
+                  "<robot>/base_link -> <robot>/<sensor>; 'stdr' STDR's, map -> map_static -> "
+                  '<robot> -> <robot>_<sensor>, with the odometry in map_static',
+                  choices=FRAME_STYLES),
     ParameterSpec('map_frame_id', 'map', 'frame of /map and of the ground truth; the root of '
                   'the TF tree', ros_name=True),
     ParameterSpec('odom_frame_id', 'odom', "frame of a robot's odometry (REP-105), as "
@@ -78,30 +93,48 @@ PARAMETERS = (
 
 @dataclass(frozen=True)
 class Frames:
-    """Frame names: the map's, and each robot's odom and base under its name (REP-105)."""
+    """
+    Frame names: the map's, and each robot's under its name, in one of two trees.
+
+    REP-105's: map -> <robot>/odom -> <robot>/base_link -> <robot>/<sensor>. STDR's (stdr):
+    map -> map_static (the map's origin) -> <robot> -> <robot>_<sensor>, where the odometry
+    is framed in map_static, as stdr_robot frames it.
+    """
 
     map_frame: str
     odom_frame: str
     base_frame: str
+    style: str = 'rep105'
+
+    @property
+    def stdr(self):
+        return self.style == 'stdr'
 
     def odom(self, robot):
-        return f'{robot}/{self.odom_frame}'
+        """Return the frame of a robot's odometry (its pose's parent)."""
+        return STDR_STATIC_FRAME if self.stdr else f'{robot}/{self.odom_frame}'
 
     def base(self, robot):
-        return f'{robot}/{self.base_frame}'
+        return robot if self.stdr else f'{robot}/{self.base_frame}'
 
-    @staticmethod
-    def sensor(robot, spec):
-        return f'{robot}/{spec.frame_id}'
+    def sensor(self, robot, spec):
+        return f'{robot}_{spec.frame_id}' if self.stdr else f'{robot}/{spec.frame_id}'
 
 
 def frames(params):
     """Return the frame names; a robot's odometry and body frames must differ."""
+    if params['frame_style'] == 'stdr':
+        changed = [spec.name for spec in PARAMETERS if spec.name in REP105_FRAMES
+                   and params[spec.name] != spec.default]
+        require(not changed, f'{", ".join(changed)}: REP-105 frames; with frame_style stdr a '
+                "robot's body frame is its name and its odometry's frame is "
+                f'{STDR_STATIC_FRAME}')
     require(params['odom_frame_id'] != params['base_frame_id'],
             f'odom_frame_id and base_frame_id are both {params["odom_frame_id"]!r}: a robot\'s '
             'odometry frame and body frame must differ (REP-105: <robot>/odom -> '
             '<robot>/base_link)')
-    return Frames(params['map_frame_id'], params['odom_frame_id'], params['base_frame_id'])
+    return Frames(params['map_frame_id'], params['odom_frame_id'], params['base_frame_id'],
+                  params['frame_style'])
 
 
 def build_simulation(params, folders):
@@ -127,7 +160,7 @@ def build_simulation(params, folders):
                                      params['odom_noise_heading_per_distance']),
         **{name: params[name] for name in (
             'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
-            'sensor_seed', 'odom_rate_hz', 'odom_seed')})
+            'sensor_seed', 'sensor_noise', 'odom_rate_hz', 'odom_seed', 'motion_seed')})
     try:
         return Simulation(occupancy_map, settings, entries), description
     except (PlacementError, RequestError) as error:

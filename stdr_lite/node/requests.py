@@ -122,8 +122,8 @@ class RequestQueue:
         """Whether some request is still being served."""
         return bool(self._jobs)
 
-    def serve(self, kind, name, work):
-        """Serve the service ~/name of type kind with the job work(request, response)."""
+    def serve(self, kind, name, work, private=True):
+        """Serve the service ~/name (name, unless private) of type kind with work as a job."""
         def take(request, response):
             # The executor takes every request waiting on a service in one go: a job run here
             # would run with all of them, before any step. Jobs wait for the pump instead.
@@ -141,7 +141,8 @@ class RequestQueue:
                 response.answer_when_done(header)
             else:
                 send_now(response, header)
-        service = self._node.create_service(kind, f'~/{name}', take, qos_profile=SERVICE_QOS)
+        service = self._node.create_service(kind, f'~/{name}' if private else name, take,
+                                            qos_profile=SERVICE_QOS)
         send_now = service.send_response
         service.send_response = send_response
         return service

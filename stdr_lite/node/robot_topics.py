@@ -16,13 +16,15 @@ class RobotTopics:
     Topics are relative (<robot>/odom, <robot>/cmd_vel, ...), so they sit under the node's
     namespace and can be remapped; <robot> is the robot's topic namespace (its name unless it
     was spawned with another), which prefixes its frames too. Messages are built once and
-    refilled at every publish. on_command(name, linear, angular) gets every command, plain or
+    refilled at every publish. on_command(name, twist) gets every command's Twist, plain or
     stamped. The ground truth and the sensors, which cost only when someone listens, keep
     count of their readers from the middleware's matched events rather than asking the graph
-    at every message.
+    at every message; on_truth_reader(name) is called when the ground truth gains one, so a
+    late reader gets the current truth at once (in lockstep the next may be long in coming).
     """
 
-    def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose):
+    def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose,
+                 on_truth_reader):
         name, prefix = robot.name, robot.namespace
         self.name = name
         self._node = node
@@ -35,24 +37,42 @@ class RobotTopics:
         self.odom_publisher = node.create_publisher(Odometry, f'{prefix}/odom', 10)
         self._readers = {}
         self._ground_truth_publisher = self._counted_publisher(
-            Odometry, f'{prefix}/ground_truth', GROUND_TRUTH)
-        if stamped:
-            command = node.create_subscription(
-                TwistStamped, f'{prefix}/cmd_vel',
-                lambda message: on_command(name, message.twist.linear.x,
-                                           message.twist.angular.z), 10)
-        else:
-            command = node.create_subscription(
-                Twist, f'{prefix}/cmd_vel',
-                lambda message: on_command(name, message.linear.x, message.angular.z), 10)
-        self._subscriptions = [command, node.create_subscription(
-            PoseWithCovarianceStamped, f'{prefix}/initialpose',
-            lambda message: on_initial_pose(name, message), 10)]
-        self.cmd_vel_topic = command.topic_name
-        self.command_type = type_name(TwistStamped if stamped else Twist)
+            Odometry, f'{prefix}/ground_truth', GROUND_TRUTH, lambda: on_truth_reader(name))
         self._prefix, self._frames = prefix, frames
+        self._on_command = on_command
+        self._command = self._command_subscription(TwistStamped if stamped else Twist)
+        self._pose_subscription = node.create_subscription(
+            PoseWithCovarianceStamped, f'{prefix}/initialpose',
+            lambda message: on_initial_pose(name, message), 10)
+        self.cmd_vel_topic = self._command.topic_name
         self._sensors = {}
         self._unmade = list(robot.sensors)
+
+    def _command_subscription(self, kind):
+        """Subscribe to the robot's cmd_vel as kind (Twist or TwistStamped)."""
+        self.command_type = type_name(kind)
+        name = self.name
+        if kind is TwistStamped:
+            return self._node.create_subscription(
+                TwistStamped, f'{self._prefix}/cmd_vel',
+                lambda message: self._on_command(name, message.twist), 10)
+        return self._node.create_subscription(
+            Twist, f'{self._prefix}/cmd_vel', lambda message: self._on_command(name, message), 10)
+
+    def stop_reading_commands(self):
+        """
+        Take the cmd_vel subscription away, to subscribe anew with another type soon.
+
+        The middleware lets the topic go only once the executor has let the old subscription
+        go: a subscription of another type made at once would be refused.
+        """
+        self._node.destroy_subscription(self._command)
+        self._command = None
+
+    def read_commands_as(self, kind):
+        """Read the robot's cmd_vel as kind from now on, after stop_reading_commands."""
+        if self._command is None:
+            self._command = self._command_subscription(kind)
 
     @property
     def complete(self):
@@ -75,12 +95,14 @@ class RobotTopics:
                                             spec.frame_id)
         self._sensors[spec.frame_id] = (publisher, message)
 
-    def _counted_publisher(self, kind, topic, key):
+    def _counted_publisher(self, kind, topic, key, on_new_reader=None):
         """Create a publisher whose matched readers are counted in self._readers[key]."""
         self._readers[key] = 0
 
         def matched(status):
             self._readers[key] = status.current_count
+            if on_new_reader is not None and status.current_count_change > 0:
+                on_new_reader()
         return self._node.create_publisher(
             kind, topic, 10, event_callbacks=PublisherEventCallbacks(matched=matched))
 
@@ -118,8 +140,9 @@ class RobotTopics:
         Withdrawing an endpoint costs more the more the node has (rmw sends the whole list
         again): between steps, one at a time, a large swarm's robot goes without a stall.
         """
-        for subscription in self._subscriptions:
-            self._node.destroy_subscription(subscription)
+        for subscription in (self._command, self._pose_subscription):
+            if subscription is not None:
+                self._node.destroy_subscription(subscription)
             yield
         publishers = [self.odom_publisher, self._ground_truth_publisher]
         for publisher in publishers + [publisher for publisher, _ in self._sensors.values()]:

@@ -3,6 +3,7 @@
 import sys
 
 from nav_msgs.msg import OccupancyGrid
+from nav_msgs.srv import GetMap
 import numpy as np
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
@@ -10,18 +11,20 @@ from rosgraph_msgs.msg import Clock as ClockMsg
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters
-from simple_robot_control.pose import planar_pose
+from simple_robot_control.pose import compose, planar_pose
 from simple_robot_control.validation import describe, shorten
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
 from stdr_lite.core.world import PlacementError
+from stdr_lite.node.command_types import CommandTypeWatch
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
 from stdr_lite.node.frames import FramePublisher
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
-from stdr_lite.node.parameters import build_simulation, frames, PARAMETERS, search_path
+from stdr_lite.node.parameters import (build_simulation, frames, PARAMETERS, search_path,
+                                       STDR_STATIC_FRAME)
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.stepper import Stepper
@@ -30,10 +33,13 @@ DESCRIPTION = ('stdr_lite: a small STDR-equivalent simulator. For each robot, su
                '/<robot>/cmd_vel (geometry_msgs/Twist) and /<robot>/initialpose; publishes '
                '/<robot>/odom (nav_msgs/Odometry), /<robot>/laser_J (sensor_msgs/LaserScan), '
                '/<robot>/sonar_J (sensor_msgs/Range), /tf and /tf_static. Also /map (transient '
-               'local) and /clock; the standard simulation_interfaces services and the '
-               'SimulateSteps action under /stdr_lite/ control time, entities and worlds.')
+               'local, and as nav_msgs/GetMap on map_server/map and static_map) and /clock; the '
+               'standard simulation_interfaces services and the SimulateSteps action under '
+               '/stdr_lite/ control time, entities and worlds.')
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# nav_msgs/GetMap under the names code waits for: nav2_map_server's, and ROS 1's map_server's.
+MAP_SERVICES = ('map_server/map', 'static_map')
 
 
 class StdrLite(GuardedNode):
@@ -72,12 +78,15 @@ class StdrLite(GuardedNode):
                                self.odometry_subscribers, params['real_time_factor'],
                                params['lockstep'])
         self.sync_entities()
-        self._map_publisher.publish(map_message(self.simulation.occupancy_map,
-                                                self.frames.map_frame))
+        self._map = map_message(self.simulation.occupancy_map, self.frames.map_frame)
+        self._map_publisher.publish(self._map)
+        for name in MAP_SERVICES:
+            self.requests.serve(GetMap, name, self._answer_map, private=False)
         # In lockstep the controller sets the pace by design: only free-running can lag.
         HealthWatch(self, self.simulation, self._topics,
                     0.0 if params['lockstep'] else params['real_time_factor'],
                     lambda: self.stepper.playing)
+        CommandTypeWatch(self, self._topics)
         self._control = SimulationControl(self)
         EntityServices(self)
         if params['lockstep']:
@@ -117,7 +126,7 @@ class StdrLite(GuardedNode):
             if name not in self._topics:
                 self._topics[name] = RobotTopics(self, self.simulation.robot(name), self.frames,
                                                  self._stamped, self._on_cmd_vel,
-                                                 self._on_initial_pose)
+                                                 self._on_initial_pose, self._on_truth_reader)
         self._frame_publisher.entities_changed()
         for topics in gone:
             yield from topics.dismantle()
@@ -133,10 +142,15 @@ class StdrLite(GuardedNode):
         new_time says whether the clock went back to 0. A generator, for the request's job.
         """
         if grid is not None:
+            self._map = grid
             self._map_publisher.publish(grid)
         yield from self.entity_topics()
         self._publish_clock()
         self.stepper.start_over(new_time)
+
+    def _answer_map(self, request, response):
+        """Answer GetMap with the current world, as /map has it (after any load_world)."""
+        response.map = self._map
 
     def show_state(self):
         """Publish the current state again (same stamp), as after a teleport while paused."""
@@ -165,10 +179,14 @@ class StdrLite(GuardedNode):
             self.get_logger().warn(f'{name}: initialpose refused: {error}')
             return
         where = ', '.join(f'{value:g}' for value in target)
-        if message.header.frame_id not in ('', self.frames.map_frame):
+        frame = message.header.frame_id
+        if self.frames.stdr and frame == STDR_STATIC_FRAME:
+            target = compose(self.simulation.occupancy_map.origin, target)
+        elif frame not in ('', self.frames.map_frame):
+            also = f' or {STDR_STATIC_FRAME}' if self.frames.stdr else ''
             self.get_logger().warn(f'{name}: move to ({where}) refused: poses are in the '
-                                   f'{self.frames.map_frame} frame, not '
-                                   f'{describe(message.header.frame_id)}')
+                                   f'{self.frames.map_frame} frame{also}, not '
+                                   f'{describe(frame)}')
             return
         try:
             self.simulation.teleport(name, target)
@@ -178,13 +196,20 @@ class StdrLite(GuardedNode):
         self.show_state()
         self.get_logger().info(f'{name} moved to ({where})')
 
-    def _on_cmd_vel(self, name, linear, angular):
+    def _on_truth_reader(self, name):
+        if name in self._topics:
+            self._topics[name].publish_ground_truth(self.simulation.time_ns,
+                                                    self.simulation.ground_truth(name))
+
+    def _on_cmd_vel(self, name, twist):
         if name not in self.simulation:
             return
-        outcome = self.simulation.command(name, linear, angular)
+        linear, lateral, angular = twist.linear.x, twist.linear.y, twist.angular.z
+        outcome = self.simulation.command(name, linear, angular, lateral)
         if outcome is not CommandOutcome.APPLIED:
-            self.get_logger().warn(f'{name}: command ({linear:g} m/s, {angular:g} rad/s) '
-                                   f'{outcome.value}', throttle_duration_sec=5.0)
+            sideways = f', {lateral:g} m/s sideways' if lateral else ''
+            self.get_logger().warn(f'{name}: command ({linear:g} m/s{sideways}, {angular:g} '
+                                   f'rad/s) {outcome.value}', throttle_duration_sec=5.0)
         self.stepper.answered(name)
 
     def _step(self):
@@ -209,7 +234,8 @@ class StdrLite(GuardedNode):
         simulation = self.simulation
         now_ns = simulation.time_ns
         for name, topics in self._topics.items():
-            topics.publish_odometry(now_ns, simulation.odometry(name))
+            topics.publish_odometry(now_ns,
+                                    self._frame_publisher.odometry_reading(simulation, name))
             if topics.ground_truth_listened:
                 topics.publish_ground_truth(now_ns, simulation.ground_truth(name))
         self._frame_publisher.publish_moving(simulation, now_ns)

@@ -10,7 +10,7 @@ from rclpy.duration import Duration
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
-from simple_robot_control.graph import command_type_problem
+from simple_robot_control.graph import command_type_problem, MISMATCH_PATIENCE
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
@@ -116,10 +116,11 @@ class MoveRobot(GuardedNode):
 
     def _wait_for_simulator(self):
         """Wait until the simulator subscribes to our commands, so none is lost to discovery."""
-        deadline = time.monotonic() + self._odom_timeout
+        started = time.monotonic()
+        deadline = started + max(self._odom_timeout, MISMATCH_PATIENCE)
         while self._commands.publisher.get_subscription_count() == 0:
             problem = command_type_problem(self, self._commands.publisher, 'cmd_vel_stamped')
-            if problem is not None:
+            if problem is not None and time.monotonic() - started >= MISMATCH_PATIENCE:
                 raise CommandsUnread(problem)
             if time.monotonic() > deadline:
                 raise SimulatorSilent()

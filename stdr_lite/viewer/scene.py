@@ -48,10 +48,16 @@ class SonarReading:
 
 @dataclass
 class RobotLook:
-    """A robot's radius and sensor mounts (sensor frame -> pose on the robot)."""
+    """
+    A robot's footprint and sensor mounts (sensor frame -> pose on the robot).
+
+    The footprint is a disc of radius, or the polygon of points (its corners in the robot's
+    frame) when there are any; radius is then the farthest corner's distance.
+    """
 
     radius: float = 0.2
     mounts: dict = field(default_factory=dict)
+    points: tuple = ()
 
 
 @dataclass
@@ -104,7 +110,8 @@ class Scene:
     def own_look(self, name):
         """Return the robot's look to fill in, starting from the default one."""
         if name not in self.looks:
-            self.looks[name] = RobotLook(self.default_look.radius, dict(self.default_look.mounts))
+            default = self.default_look
+            self.looks[name] = RobotLook(default.radius, dict(default.mounts), default.points)
         return self.looks[name]
 
     def move(self, name, pose):
@@ -190,7 +197,7 @@ class Painter:
                 pygame.draw.lines(surface, TRAIL, False,
                                   [view.to_screen(x, y) for x, y in robot.trail], 2)
         for name, robot in scene.robots.items():
-            self._draw_robot(surface, name, robot, scene.look(name).radius, view)
+            self._draw_robot(surface, name, robot, scene.look(name), view)
         lines = [scene.status or 'robot_status: (nothing yet)', extra_text]
         for number, line in enumerate(line for line in lines if line):
             surface.blit(self._font.render(line, True, TEXT, BACKGROUND), (8, 8 + 20 * number))
@@ -233,11 +240,18 @@ class Painter:
         top_left = view.to_screen(scene.origin[0], scene.origin[1] + height * scene.resolution)
         surface.blit(self._scaled[1], (round(top_left[0]), round(top_left[1])))
 
-    def _draw_robot(self, surface, name, robot, radius, view):
+    def _draw_robot(self, surface, name, robot, look, view):
         x, y, theta = robot.pose
+        radius = look.radius
         centre = view.to_screen(x, y)
         pixels = max(2, round(radius * view.scale))
-        pygame.draw.circle(surface, ROBOT, centre, pixels)
+        if look.points:
+            cos_theta, sin_theta = math.cos(theta), math.sin(theta)
+            pygame.draw.polygon(surface, ROBOT, [
+                view.to_screen(x + cos_theta * px - sin_theta * py,
+                               y + sin_theta * px + cos_theta * py) for px, py in look.points])
+        else:
+            pygame.draw.circle(surface, ROBOT, centre, pixels)
         nose = view.to_screen(x + radius * math.cos(theta), y + radius * math.sin(theta))
         pygame.draw.line(surface, FREE, centre, nose, 2)
         label = self._font.render(name, True, ROBOT)

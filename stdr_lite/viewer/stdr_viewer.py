@@ -30,7 +30,7 @@ from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, describe
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
-from stdr_lite.node.parameters import RESOURCE_PATHS, search_path
+from stdr_lite.node.parameters import RESOURCE_PATHS, search_path, STDR_STATIC_FRAME
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import (LaserReading, ObstacleView, Painter, RobotLook, Scene,
                                     SonarReading, View)
@@ -43,6 +43,7 @@ DISCOVERY_PERIOD = 1.0
 FAR = 1e6
 RADIUS = Bounds(0.0, 5.0, low_open=True)
 MAX_RAYS = 100_000
+MAX_CORNERS = 64
 STATUS_SHOWN = 120
 ZOOM_STEP = 1.2
 FRAME_TIMES = 30
@@ -77,6 +78,29 @@ def sane(*values) -> bool:
     return all(math.isfinite(value) and abs(value) <= FAR for value in values)
 
 
+def mount_of(parent, child) -> tuple[str, str]:
+    """Return (robot, sensor frame) of a sensor's mount transform, or ('', '') for another."""
+    robot, _, frame = child.rpartition('/')
+    if robot and parent.startswith(f'{robot}/'):
+        return robot, frame
+    stdr_mount = parent and '/' not in parent and child.startswith(f'{parent}_')
+    if stdr_mount and child != STDR_STATIC_FRAME:
+        return parent, child[len(parent) + 1:]
+    return '', ''
+
+
+def _outline(points) -> tuple:
+    """Return the corners of a closed line strip, or () unless 3 to MAX_CORNERS sane ones."""
+    if not 3 <= len(points) <= MAX_CORNERS + 1:
+        return ()
+    corners = tuple((point.x, point.y) for point in points)
+    if corners[-1] == corners[0]:
+        corners = corners[:-1]
+    if len(corners) < 3 or not all(sane(*corner) for corner in corners):
+        return ()
+    return corners
+
+
 class StdrViewer(GuardedNode):
     """Fills a Scene from topics and paints it at a steady rate."""
 
@@ -105,7 +129,8 @@ class StdrViewer(GuardedNode):
             self._window = False
         self.surface = surface
         self.scene = Scene(default_look=RobotLook(description.radius, {
-            spec.frame_id: spec.pose for spec in description.lasers + description.sonars}))
+            spec.frame_id: spec.pose for spec in description.lasers + description.sonars},
+            description.points))
         self.view = View(surface.get_size())
         self._painter = Painter(pygame.font.Font(None, 22))
         self._subscribed = {}
@@ -169,15 +194,16 @@ class StdrViewer(GuardedNode):
 
     def _on_static_frames(self, message):
         """
-        Take each robot's sensor mounts from the transforms <robot>/... -> <robot>/<sensor>.
+        Take each robot's sensor mounts from its static transforms.
 
-        A /tf_static message holds every static transform of its publisher, so the mounts it
-        gives a robot replace whatever the robot had.
+        They are <robot>/... -> <robot>/<sensor> in REP-105's tree, <robot> -> <robot>_<sensor>
+        in STDR's. A /tf_static message holds every static transform of its publisher, so the
+        mounts it gives a robot replace whatever the robot had.
         """
         mounts = {}
         for transform in message.transforms:
-            robot, _, frame = transform.child_frame_id.rpartition('/')
-            if robot and transform.header.frame_id.startswith(f'{robot}/'):
+            robot, frame = mount_of(transform.header.frame_id, transform.child_frame_id)
+            if robot:
                 offset = transform.transform
                 mount = (offset.translation.x, offset.translation.y,
                          yaw_from_quaternion(offset.rotation))
@@ -190,15 +216,27 @@ class StdrViewer(GuardedNode):
             self.scene.own_look(robot).mounts = robot_mounts
 
     def _on_markers(self, message):
-        """Take each robot's radius from its footprint marker."""
+        """Take each robot's footprint from its marker: a disc, or a polygon's outline."""
         for marker in message.markers:
             if marker.ns == 'footprint' and marker.action == Marker.ADD:
-                robot = marker.header.frame_id.rpartition('/')[0]
-                if not RADIUS.contains(0.5 * marker.scale.x):
-                    self._ignore(f'the footprint marker of {describe(robot)}: its radius must '
-                                 f'be {RADIUS.text()} m')
-                    continue
-                self.scene.own_look(robot).radius = 0.5 * marker.scale.x
+                # The robot's body frame: <robot>/base_link (REP-105) or <robot> (STDR).
+                robot = marker.header.frame_id.rpartition('/')[0] or marker.header.frame_id
+                if marker.type == Marker.LINE_STRIP:
+                    points = _outline(marker.points)
+                    radius = max((math.hypot(*point) for point in points), default=0.0)
+                    if not (points and RADIUS.contains(radius)):
+                        self._ignore(f'the footprint marker of {describe(robot)}: its outline '
+                                     f'must have 3 to {MAX_CORNERS} corners within '
+                                     f'{RADIUS.text()} m')
+                        continue
+                else:
+                    radius, points = 0.5 * marker.scale.x, ()
+                    if not RADIUS.contains(radius):
+                        self._ignore(f'the footprint marker of {describe(robot)}: its radius '
+                                     f'must be {RADIUS.text()} m')
+                        continue
+                look = self.scene.own_look(robot)
+                look.radius, look.points = radius, points
 
     def _on_obstacle_markers(self, message):
         """Take every obstacle from its body marker; each message holds all of them."""

@@ -3,6 +3,7 @@
 from geometry_msgs.msg import PoseStamped
 from map_fixtures import png_header, walled_room, write_map
 from nav_msgs.msg import OccupancyGrid, Odometry
+from nav_msgs.srv import GetMap
 import pytest
 from rclpy.action import ActionClient
 from rclpy.node import Node
@@ -63,7 +64,8 @@ def test_features_are_exactly_those_served(world):
     features = call(GetSimulatorFeatures, 'get_simulator_features').features
     assert sorted(features.features) == sorted(IMPLEMENTED)
     assert SimulatorFeatures.NAMED_POSES not in features.features
-    assert list(features.spawn_formats) == ['stdr_robot_yaml', 'stdr_lite_obstacle_yaml']
+    assert list(features.spawn_formats) == ['stdr_robot_yaml', 'stdr_robot_xml',
+                                            'stdr_lite_obstacle_yaml']
     assert 'doc/simulation_api.md' in features.custom_info
 
 
@@ -278,3 +280,24 @@ def test_stdr_ctl_follows_a_goal_whose_acceptance_reply_was_lost(world, executor
     assert ctl.finished.result() == EXIT_OK
     assert lines == ['simulated 5']
     assert simulator.simulation.step_count == before + 5
+
+
+def test_the_map_is_served_on_both_names_and_follows_load_world(world, executor, tmp_path):
+    """ROS 1 code waits for static_map, Nav2's for map_server/map: both answer the world."""
+    _, watcher, call = world
+    clients = [watcher.create_client(GetMap, name) for name in ('/static_map',
+                                                                '/map_server/map')]
+
+    def maps():
+        futures = [client.call_async(GetMap.Request()) for client in clients]
+        spin_until(executor, lambda: all(future.done() for future in futures), what='the maps')
+        return [future.result().map for future in futures]
+
+    for client in clients:
+        spin_until(executor, client.service_is_ready, what=client.srv_name)
+    for grid in maps():
+        assert (grid.info.width, grid.info.height, grid.header.frame_id) == (400, 300, 'map')
+        assert grid.info.resolution == pytest.approx(0.05) and grid.data[0] == 100
+    big = write_map(tmp_path, walled_room(500, 300), name='big')
+    assert call(LoadWorld, 'load_world', uri=str(big)).result.result == OK
+    assert [grid.info.width for grid in maps()] == [500, 500]

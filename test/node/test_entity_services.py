@@ -296,7 +296,7 @@ def test_set_state_teleports_and_sets_a_robot_moving(world, executor):
      SetEntityState.Response.INVALID_POSE, 'robot0/odom'),
     ('robot0', entity_state(5.0, 5.0, 0.0, (0.0, 0.5, 0.0)), Result.RESULT_OPERATION_FAILED,
      'unicycle'),
-    ('robot0', entity_state(5.0, 5.0, 0.0, (5.0, 0.0, 0.0)), Result.RESULT_OPERATION_FAILED,
+    ('robot0', entity_state(5.0, 5.0, 0.0, (500.0, 0.0, 0.0)), Result.RESULT_OPERATION_FAILED,
      'limits'),
     ('robot0', entity_state(5.0, 5.0, 0.0, (math.inf, 0.0, 0.0)),
      Result.RESULT_OPERATION_FAILED, 'finite'),
@@ -384,6 +384,6 @@ def test_a_moving_obstacle_stops_a_robot_and_shows_in_its_laser(ros_context, exe
     robot_x = simulator.simulation.pose('robot0')[0]
     ball_x = simulator.simulation.pose('ball')[0]
     assert ball_x - robot_x == pytest.approx(0.45, abs=0.03)
-    assert simulator.simulation.applied_velocity('robot0') == (0.0, 0.0)
+    assert simulator.simulation.applied_velocity('robot0') == (0.0, 0.0, 0.0)
     assert scans[-1].ranges[ahead] < 0.2
     assert pose_from_message(odometry[-1].pose.pose)[0] == pytest.approx(robot_x)

@@ -3,6 +3,7 @@
 import math
 
 from geometry_msgs.msg import Twist, TwistStamped
+from map_fixtures import walled_room, write_map
 from nav_msgs.msg import Odometry
 import pytest
 from rclpy.node import Node
@@ -10,6 +11,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_until
 from sensor_msgs.msg import LaserScan, Range
+from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import compose, pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simulation_interfaces.srv import SpawnEntity
@@ -29,30 +31,48 @@ def stamp_of(message):
 
 
 class Listener(Node):
-    """Answers robot0's odometry with a curve in lockstep, and keeps what it hears by stamp."""
+    """
+    Answers robot0's odometry with a curve in lockstep, and keeps what it hears by stamp.
+
+    A stamp is answered once its ground truth and its /tf are in too, so every step's are
+    heard (the simulator sends them again, with the same stamp, to an unanswered step).
+    """
 
     def __init__(self, context, stamped=False, steps=60):
         super().__init__('listener', context=context)
         self.odometry, self.truth, self.tf, self.static = {}, {}, [], []
         self.scans, self.ranges = [], []
         self.answered = 0
+        self._answered, self._tf_stamps = set(), set()
         self._steps = steps
         self._command = self.create_publisher(TwistStamped if stamped else Twist,
                                               '/robot0/cmd_vel', 10)
         self.create_subscription(Odometry, '/robot0/odom', self._on_odometry, 100)
-        self.create_subscription(Odometry, '/robot0/ground_truth',
-                                 lambda message: self.truth.setdefault(stamp_of(message),
-                                                                       message), 100)
-        self.create_subscription(TFMessage, '/tf', self.tf.append, 100)
+        self.create_subscription(Odometry, '/robot0/ground_truth', self._on_truth, 100)
+        self.create_subscription(TFMessage, '/tf', self._on_tf, 100)
         self.create_subscription(TFMessage, '/tf_static', self.static.append, LATCHED)
         self.create_subscription(LaserScan, '/robot0/laser_0', self.scans.append, 10)
         self.create_subscription(Range, '/robot0/sonar_3', self.ranges.append, 10)
 
+    def _on_tf(self, message):
+        self.tf.append(message)
+        for stamp in {stamp_of(transform) for transform in message.transforms}:
+            self._tf_stamps.add(stamp)
+            self._answer(stamp)
+
+    def _on_truth(self, message):
+        self.truth.setdefault(stamp_of(message), message)
+        self._answer(stamp_of(message))
+
     def _on_odometry(self, message):
-        stamp = stamp_of(message)
-        if stamp in self.odometry or self.answered >= self._steps:
+        self.odometry.setdefault(stamp_of(message), message)
+        self._answer(stamp_of(message))
+
+    def _answer(self, stamp):
+        if (stamp in self._answered or stamp not in self.odometry or stamp not in self.truth
+                or stamp not in self._tf_stamps or self.answered >= self._steps):
             return
-        self.odometry[stamp] = message
+        self._answered.add(stamp)
         twist = Twist()
         twist.linear.x, twist.angular.z = 0.4, 0.6 * math.sin(stamp * 1e-9)
         if isinstance(self._command.msg_type(), TwistStamped):
@@ -137,6 +157,38 @@ def test_sensor_mounts_are_static_transforms_from_the_description(ros_context, e
     assert set(mounts) == set(expected)
     for frames, pose in expected.items():
         assert mounts[frames] == pytest.approx(pose)
+
+
+def test_stdr_frames_compose_to_the_ground_truth(ros_context, executor, tmp_path):
+    """The tree is STDR's: map -> map_static (the map's origin) -> robot0 -> robot0_<sensor>."""
+    origin = (-1.0, 0.5, 0.3)
+    world = write_map(tmp_path, walled_room(400, 300), origin=list(origin))
+    _, listener = run_lockstep(ros_context, executor, steps=20, frame_style='stdr',
+                               map_yaml=str(world), initial_pose=[3.0, 3.0, 0.5])
+    spin_until(executor, lambda: listener.static and listener.scans, what='/tf_static, a scan')
+    fixed = {}
+    for transform in listener.static[-1].transforms:
+        fixed.update(planar(transform))
+    assert fixed[('map', 'map_static')] == pytest.approx(origin)
+    assert fixed[('robot0', 'robot0_laser_0')] == pytest.approx((0.1, 0.0, 0.0))
+    assert listener.scans[-1].header.frame_id == 'robot0_laser_0'
+    for stamp, odometry in listener.odometry.items():
+        assert (odometry.header.frame_id, odometry.child_frame_id) == ('map_static', 'robot0')
+        tree = tree_of(listener.tf, stamp)
+        assert set(tree) == {('map_static', 'robot0')}
+        assert pose_from_message(odometry.pose.pose) == pytest.approx(
+            tree[('map_static', 'robot0')], abs=1e-9)
+        truth = listener.truth[stamp]
+        assert (truth.header.frame_id, truth.child_frame_id) == ('map', 'robot0')
+        chained = compose(fixed[('map', 'map_static')], tree[('map_static', 'robot0')])
+        assert chained == pytest.approx(pose_from_message(truth.pose.pose), abs=1e-6)
+
+
+def test_stdr_frames_leave_no_rep105_frame_name_unused(ros_context):
+    with pytest.raises(ConfigError, match='base_frame_id: REP-105 frames; with frame_style '
+                       "stdr a robot's body frame is its name"):
+        StdrLite(context=ros_context, parameter_overrides=overrides(
+            frame_style='stdr', base_frame_id='body'))
 
 
 def test_drifting_odometry_reports_a_covariance_that_grows(ros_context, executor):

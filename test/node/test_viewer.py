@@ -19,7 +19,7 @@ from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import LASER, MOVING_OBSTACLE, OBSTACLE, ROBOT, SONAR, View, WALL
-from stdr_lite.viewer.stdr_viewer import StdrViewer
+from stdr_lite.viewer.stdr_viewer import mount_of, StdrViewer
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -203,3 +203,15 @@ def test_the_screenshot_goes_exactly_where_asked_and_over_no_folder(ros_context,
     viewer.shut_down()
     viewer.destroy_node()
     assert picture.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+
+
+@pytest.mark.parametrize('parent, child, mount', [
+    ('robot0/base_link', 'robot0/laser_0', ('robot0', 'laser_0')),
+    ('team/scout/base_link', 'team/scout/sonar_1', ('team/scout', 'sonar_1')),
+    ('robot0', 'robot0_laser_0', ('robot0', 'laser_0')),
+    ('map', 'map_static', ('', '')),
+    ('map', 'robot0/odom', ('', '')),
+])
+def test_sensor_mounts_are_found_in_either_tree(parent, child, mount):
+    """REP-105's <robot>/<base> -> <robot>/<sensor>, or STDR's <robot> -> <robot>_<sensor>."""
+    assert mount_of(parent, child) == mount

@@ -44,7 +44,7 @@ def assert_one_line_refusal(result, message):
     (['-p', 'robot_name:=robé'], 'robot_name must be a ROS name'),
     (['-p', 'rate_hz:=.inf'], 'rate_hz must be in [1, 1000], got inf'),
     (['-p', 'rate_hz:=1e12'], 'rate_hz must be in [1, 1000], got 1e+12'),
-    (['-p', 'max_linear_speed:=.inf'], 'max_linear_speed must be in (0, 100], got inf'),
+    (['-p', 'max_linear_speed:=.inf'], 'max_linear_speed must be in [0, 100], got inf'),
     (['-p', 'robots_file:=FILES/names.yaml'], 'robots[0].name: expected a ROS name'),
     (['-p', 'robot_description:=FILES/fast.yaml'],
      'sensors.sonars[0].frequency: must be in [0.001, 1000], got 1e+12'),

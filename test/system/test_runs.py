@@ -120,19 +120,3 @@ def test_ctrl_c_stops_the_robot_it_drives(tmp_path, simulator, ros_context, exec
     count = len(speeds)
     spin_until(executor, lambda: len(speeds) > count + 20, what='odometry after the stop')
     assert speeds[-1] == 0.0
-
-
-def test_commands_of_a_type_the_simulator_does_not_read_stop_the_controller(tmp_path):
-    log = tmp_path / 'stdr_lite.log'
-    simulator = start_logged('stdr_lite', '--ros-args', '-p', 'cmd_vel_stamped:=true', log=log)
-    try:
-        wait_for_text(log, 'real_time_factor', simulator)
-        course = tmp_path / 'course.txt'
-        course.write_text('3 2 0\n')
-        result = run('waypoint_controller', str(course), timeout=60)
-        assert result.returncode == 2, result.stderr
-        assert ('waypoint_controller: error: /robot0/cmd_vel is read as '
-                'geometry_msgs/msg/TwistStamped by /stdr_lite, but this node sends '
-                'geometry_msgs/msg/Twist') in result.stderr
-    finally:
-        assert stop(simulator, signal.SIGINT)[0] == 0

@@ -39,8 +39,8 @@ def test_without_noise_the_odometry_is_the_true_pose_whatever_happens(room):
     simulation.teleport('robot0', (6.0, 3.0, 1.0))
     reading = simulation.odometry('robot0')
     assert reading.pose == simulation.pose('robot0') == (6.0, 3.0, 1.0)
-    assert reading.velocity == (0.5, 0.3)
-    assert not reading.pose_covariance.any() and reading.velocity_variance == (0.0, 0.0)
+    assert reading.velocity == (0.5, 0.0, 0.3)
+    assert not reading.pose_covariance.any() and reading.velocity_variance == (0.0, 0.0, 0.0)
     assert simulation.map_to_odom('robot0') == (0.0, 0.0, 0.0)
 
 
@@ -75,11 +75,11 @@ def test_covariance_grows_while_driving_and_holds_while_standing(room):
     assert spreads == sorted(spreads) and spreads[0] > 0.0
     assert np.trace(reading.pose_covariance) == pytest.approx(spreads[-1])
     assert np.all(np.linalg.eigvalsh(reading.pose_covariance) > 0.0)
-    assert reading.velocity_variance == (0.0, 0.0)
+    assert reading.velocity_variance == (0.0, 0.0, 0.0)
 
 
-@pytest.mark.parametrize('dt', [0.01, 0.1])
-def test_the_spread_is_what_the_covariance_says_at_any_step_rate(dt):
+@pytest.mark.parametrize('dt, lateral', [(0.01, 0.0), (0.1, 0.0), (0.05, 0.3)])
+def test_the_spread_is_what_the_covariance_says_at_any_step_rate(dt, lateral):
     """Two thousand robots drive 2 m along a gentle curve; compare their scatter with P."""
     robots = 2000
     odometry = Odometry(NOISE, seed=7)
@@ -87,11 +87,13 @@ def test_the_spread_is_what_the_covariance_says_at_any_step_rate(dt):
         odometry.add_robot((0.0, 0.0, 0.0))
     steps = round(4.0 / dt)
     for _ in range(steps):
-        odometry.advance(None, np.full(robots, 0.5), np.full(robots, 0.2), dt)
+        odometry.advance(None, np.full(robots, 0.5), np.full(robots, lateral),
+                         np.full(robots, 0.2), dt)
     predicted = odometry.reading(0).pose_covariance
     observed = np.cov(odometry.poses.T)
     assert np.sqrt(np.diag(observed)) == pytest.approx(np.sqrt(np.diag(predicted)), rel=0.1)
-    heading_std = math.sqrt(NOISE.turn ** 2 * 0.8 + NOISE.heading_per_distance ** 2 * 2.0)
+    heading_std = math.sqrt(NOISE.turn ** 2 * 0.8
+                            + NOISE.heading_per_distance ** 2 * (2.0 + 4.0 * lateral))
     assert math.sqrt(predicted[2, 2]) == pytest.approx(heading_std, rel=1e-6)
 
 

@@ -1,8 +1,11 @@
-"""The documentation names every node parameter, so docs and code cannot drift apart."""
+"""The documentation names every node parameter and its examples load: docs and code agree."""
 
 from pathlib import Path
+import re
 
 import pytest
+from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
+from stdr_lite.core.robot_description import load_robot
 from stdr_lite.node import stdr_lite
 from stdr_lite.tools import move_robot
 from stdr_lite.viewer import stdr_viewer
@@ -25,3 +28,21 @@ def test_the_readme_links_every_page():
     readme = (REPOSITORY / 'README.md').read_text()
     pages = sorted(path.name for path in REPOSITORY.glob('doc/*.md'))
     assert pages and all(f'(doc/{page})' in readme for page in pages)
+
+
+def examples(page, language):
+    """Return the text of each fenced block of language on a page."""
+    return re.findall(rf'```{language}\n(.*?)```', (REPOSITORY / page).read_text(), re.DOTALL)
+
+
+@pytest.mark.parametrize('page', ['README.md', 'doc/robot_files.md'])
+def test_the_robot_file_examples_load_as_shown(page, tmp_path):
+    """Each XML and YAML robot example loads, its includes found in the bundled resources."""
+    texts = examples(page, 'xml') + [text for text in examples(page, 'yaml')
+                                     if 'robots:' not in text]
+    assert texts
+    for number, text in enumerate(texts):
+        path = tmp_path / f'example{number}.{"xml" if text.startswith("<") else "yaml"}'
+        path.write_text(text)
+        robot = load_robot(path, (shared_file(*BUNDLED_RESOURCES),))
+        assert robot.lasers or robot.sonars

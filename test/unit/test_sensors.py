@@ -43,7 +43,8 @@ def exact_distance_to_walls(x, y, angle):
 def read(finder, poses, jobs, radii=None, seed=0):
     poses = np.asarray(poses, dtype=float)
     radii = np.full(len(poses), 0.2) if radii is None else np.asarray(radii)
-    return read_sensors(finder, poses, radii, jobs, np.random.default_rng(seed))
+    return read_sensors(finder, poses, radii, [None] * len(poses), jobs,
+                        np.random.default_rng(seed))
 
 
 def test_laser_reads_the_walls_within_one_cell(finder):

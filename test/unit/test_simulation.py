@@ -4,6 +4,7 @@ from dataclasses import replace
 import math
 
 from map_fixtures import walled_room, write_map
+import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map
 from stdr_lite.core.robot_description import (LaserSpec, Noise, RobotDescription, RobotEntry,
@@ -35,8 +36,8 @@ def test_robots_are_known_by_name_and_keep_their_state_when_others_leave(room):
     simulation.step()
     assert simulation.pose('b') == (4.0, 2.0, 0.0)
     assert simulation.pose('c')[0] == pytest.approx(6.0 + 0.5 * 0.02)
-    assert simulation.applied_velocity('c') == (0.5, 0.0)
-    assert simulation.applied_velocity('b') == (0.0, 0.0)
+    assert simulation.applied_velocity('c') == (0.5, 0.0, 0.0)
+    assert simulation.applied_velocity('b') == (0.0, 0.0, 0.0)
     assert 'a' not in simulation and simulation.default_name() == 'robot0'
 
 
@@ -83,11 +84,14 @@ def test_commands_are_held_clamped_or_ignored(room):
     assert simulation.command('a', 0.5, 0.0) is CommandOutcome.APPLIED
     assert simulation.command('a', math.inf, 0.0) is CommandOutcome.IGNORED
     simulation.step()
-    assert simulation.applied_velocity('a') == (0.5, 0.0)
+    assert simulation.applied_velocity('a') == (0.5, 0.0, 0.0)
     assert simulation.command('a', 5.0, -9.0) is CommandOutcome.CLAMPED
     simulation.step()
-    assert simulation.applied_velocity('a') == (1.0, -2.0)
-    assert simulation.sim_time == pytest.approx(0.2) and simulation.time_ns == 200_000_000
+    assert simulation.applied_velocity('a') == (1.0, 0.0, -2.0)
+    assert simulation.command('a', 0.5, 0.0, lateral=0.5) is CommandOutcome.NOT_OMNI
+    simulation.step()
+    assert simulation.applied_velocity('a') == (0.5, 0.0, 0.0)
+    assert simulation.sim_time == pytest.approx(0.3) and simulation.time_ns == 300_000_000
 
 
 def test_a_stale_command_stops_the_robot_after_the_timeout(room):
@@ -185,7 +189,7 @@ def test_a_moving_obstacle_slides_until_something_stops_it(room):
 @pytest.mark.parametrize('name, velocity, message', [
     ('a', (0.0, 0.5, 0.0), 'unicycle'),
     ('rock', (0.1, 0.0, 0.0), 'static obstacle does not move'),
-    ('ball', (50.0, 0.0, 0.0), 'exceeds the limits'),
+    ('ball', (500.0, 0.0, 0.0), 'exceeds the limits'),
     ('ball', (float('nan'), 0.0, 0.0), 'must be finite'),
 ])
 def test_a_refused_state_changes_neither_pose_nor_velocity(room, name, velocity, message):
@@ -220,7 +224,7 @@ def test_reset_by_scope(room):
     simulation.reset(time=False, state=True, spawned=False)
     assert simulation.pose('a') == (2.0, 2.0, 0.0)
     simulation.step()
-    assert simulation.applied_velocity('a') == (0.0, 0.0)
+    assert simulation.applied_velocity('a') == (0.0, 0.0, 0.0)
 
 
 def test_a_reset_that_cannot_put_everyone_back_changes_nothing(room):
@@ -245,3 +249,20 @@ def test_a_new_map_keeps_the_start_robots_or_refuses_whole(room, tmp_path):
     simulation.load_map(other)
     assert simulation.names == ['a'] and simulation.step_count == 0
     assert simulation.occupancy_map is other and simulation.pose('a') == (2.0, 2.0, 0.0)
+
+
+def test_sensor_noise_off_reads_as_stdr_does(room):
+    noisy = replace(LASER, noise=Noise(0.5, 0.05))
+    description = RobotDescription(0.2, (0.0, 0.0, 0.0), (noisy,))
+    readings = {}
+    for setting in (True, False):
+        simulation = Simulation(room, SimulationSettings(sensor_noise=setting),
+                                [robot('a', 2.0, description=description)])
+        readings[setting], = simulation.read_sensors([('a', simulation.robot('a').sensors[0]
+                                                       .spec)])
+    exact = Simulation(room, robots=[robot('a', 2.0, description=SENSING)])
+    clean, _ = exact.read_sensors([('a', LASER), ('a', SONAR)])
+    assert list(readings[False]) == list(clean)
+    returns = np.isfinite(clean)
+    assert returns.any()
+    assert (readings[True][returns] - clean[returns]) == pytest.approx(0.5, abs=0.25)

@@ -31,7 +31,7 @@ def test_files_by_path_or_uri_and_text():
 
 @pytest.mark.parametrize('uri, text, kind, message', [
     ('', '', 'no_resource', 'give a uri or a resource_string'),
-    ('model.sdf', '', 'unsupported_format', 'spawn formats are stdr_robot_yaml and'),
+    ('model.sdf', '', 'unsupported_format', 'spawn formats are stdr_robot_yaml, stdr_robot_xml'),
     ('https://example.org/robot.yaml', '', 'unsupported_format', 'only file paths'),
     ('/no/such/robot.yaml', '', 'missing_assets', 'no such file'),
     ('', 'footprint: {radius: -1}', 'parse_error', 'footprint.radius: must be in'),
