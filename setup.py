@@ -25,7 +25,7 @@ setup(
         *((f'{SHARE}/{folder}', sorted(glob(f'{folder}/*.xml')))
           for folder in sorted(glob('resources/*'))),
         (f'{SHARE}/obstacles', sorted(glob('obstacles/*.yaml'))),
-        (f'{SHARE}/config', sorted(glob('config/*.yaml'))),
+        (f'{SHARE}/config', sorted(glob('config/*.yaml') + glob('config/*.xml'))),
         (f'{SHARE}/rviz', sorted(glob('rviz/*.rviz'))),
     ],
     python_requires='>=3.10',

@@ -45,7 +45,11 @@ fi
 # The monitor ends by itself on FINISHED or ABORTED; after bad input there is nothing to wait for,
 # and should the controller have died without a last word, the monitor is stopped after 10 s.
 if [ "$status" -le 1 ]; then
-    (sleep 10; kill -INT $monitor 2>/dev/null || true) &
+    for _ in $(seq 100); do
+        kill -0 $monitor 2>/dev/null || break
+        sleep 0.1
+    done
+    kill -INT $monitor 2>/dev/null || true
     wait $monitor || true
     plot_run "$record" --output "$picture"
 fi

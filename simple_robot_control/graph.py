@@ -69,23 +69,27 @@ def command_type_problem(node, publisher, parameter):
             f'both must use one type (the parameter {parameter})')
 
 
-def deliver_before_exit(publisher, alive_since, budget):
+def deliver_before_exit(node, publisher, alive_since, budget):
     """
     Wait, at most budget seconds of wall time, until every reader has every message.
 
-    A reader that existed before the node started may not be matched yet when a short run
-    ends, and wait_for_all_acked covers only matched readers; so first let the node reach the
-    discovery time and the reader count stay unchanged for a moment, then wait for the acks.
-    Discovery runs in the middleware's own threads: nothing needs to spin meanwhile.
+    wait_for_all_acked covers only the readers matched so far. Once the graph knows of a
+    reader of the topic, the wait lasts until every reader the graph knows is matched (a
+    matter of milliseconds), steady for a moment; while it knows of none, a reader may still
+    be on its way, so the node first reaches the discovery time. Discovery runs in the
+    middleware's own threads: nothing needs to spin meanwhile.
     """
     deadline = time.monotonic() + budget
+    topic = publisher.topic_name
     count, steady_since = publisher.get_subscription_count(), time.monotonic()
     while time.monotonic() < deadline:
         now = time.monotonic()
         current = publisher.get_subscription_count()
         if current != count:
             count, steady_since = current, now
-        if now >= alive_since + DISCOVERY_TIME and now - steady_since >= SETTLED_FOR:
+        known = node.count_subscribers(topic)
+        discovered = now >= alive_since + DISCOVERY_TIME or (known > 0 and current >= known)
+        if discovered and now - steady_since >= SETTLED_FOR:
             break
         time.sleep(POLL_PERIOD)
     remaining = deadline - time.monotonic()

@@ -13,7 +13,8 @@ from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.graph import (command_type_problem, deliver_before_exit,
-                                        DISCOVERY_TIME, MISMATCH_PATIENCE, other_publishers)
+                                        DISCOVERY_TIME, MISMATCH_PATIENCE, other_publishers,
+                                        SETTLED_FOR)
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.occupancy_map import MapError, OccupancyMap
@@ -31,13 +32,15 @@ from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.stall import StallDetector
 from waypoint_controller.status import aborted, finished, started, waypoint_reached
 
-# Wall-clock seconds. Odometry is held this long after start, which covers discovery most of
-# the time, to see who else commands the robot; the controller stays ready to yield for the
-# whole discovery time. When /map has a publisher, odometry is held on until the map is in (at
-# most MAP_WAIT), so the first plan already avoids the walls and a run does not depend on when
-# the map happened to arrive. Silence this long is worth a warning. At the end of a run,
-# readers get as long as discovery may take; when interrupted, a moment.
-FIRST_ANSWER_AFTER = 1.5
+# Wall-clock seconds. Odometry is held this long after start, which covers discovery nine
+# times in ten, to see who else commands the robot; the controller stays ready to yield for the
+# whole discovery time, so a slow discovery costs at most a few seconds of two commanders
+# rather than every run a wait. When /map has a publisher, odometry is held on until the map
+# is in (at most MAP_WAIT), so the first plan already avoids the walls and a run does not
+# depend on when the map happened to arrive. Silence this long is worth a warning. At the end
+# of a run, readers known to the graph get what they need (see deliver_before_exit), unknown
+# ones as long as discovery may take; when interrupted, a moment.
+FIRST_ANSWER_AFTER = SETTLED_FOR
 MAP_WAIT = 10.0
 NEWCOMER_FOR = DISCOVERY_TIME
 WATCH_PERIOD = 0.5
@@ -345,7 +348,7 @@ class WaypointController(GuardedNode):
         self._commands.publish(*self._command)
         self._commands.publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
         if ended:
-            deliver_before_exit(self._status_publisher, self._started_at, EXIT_WAIT)
+            deliver_before_exit(self, self._status_publisher, self._started_at, EXIT_WAIT)
         else:
             self._status_publisher.wait_for_all_acked(Duration(seconds=INTERRUPTED_WAIT))
 

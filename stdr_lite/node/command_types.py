@@ -2,18 +2,17 @@
 The message type of each robot's cmd_vel follows its publishers, or their mix is named.
 
 Twist and TwistStamped endpoints never match: a teleop or a Nav2 sending the other type than
-the simulator reads would drive nothing, silently. Once a second the whole graph's topic types
-are read in one call (cheap however many robots there are); a robot's cmd_vel that shows
-another type has its publishers looked at. When they all send the other of the two velocity
-types, the robot's subscription is made anew with theirs; when they disagree, or send some
-third type, the simulator warns, naming each publisher and its type.
+the simulator reads would drive nothing, silently. Given the whole graph's topic types (see
+graph_watch), a robot's cmd_vel that shows another type has its publishers looked at. When
+they all send the other of the two velocity types, the robot's subscription is made anew with
+theirs; when they disagree, or send some third type, the simulator warns, naming each
+publisher and its type.
 """
 
 from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.clock import Clock, ClockType
 from simple_robot_control.graph import endpoint_node, type_name
 
-CHECK_PERIOD = 1.0
 # The old subscription must be gone from the executor before one of another type is made.
 RESUBSCRIBE_AFTER = 0.1
 WARN_EVERY = 10.0
@@ -27,17 +26,15 @@ class CommandTypeWatch:
         self._node = node
         self._topics = topics
         self._pending = {}
-        steady = Clock(clock_type=ClockType.STEADY_TIME)
-        node.create_timer(CHECK_PERIOD, self.check, clock=steady)
         self._resubscribe = node.create_timer(RESUBSCRIBE_AFTER, self._subscribe_anew,
-                                              clock=steady)
+                                              clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._resubscribe.cancel()
 
-    def check(self):
+    def check(self, names_and_types):
         """Look at every robot's cmd_vel whose graph shows a type the robot does not read."""
         by_topic = {topics.cmd_vel_topic: topics for name, topics in self._topics.items()
                     if name not in self._pending}
-        for topic, types in self._node.get_topic_names_and_types():
+        for topic, types in names_and_types:
             topics = by_topic.get(topic)
             if topics is not None and any(kind != topics.command_type for kind in types):
                 self._settle(topics)

@@ -17,6 +17,9 @@ from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettin
 from stdr_lite.core.world import PlacementError
 
 FRAME_STYLES = ('rep105', 'stdr')
+OPTIONAL_TOPICS = ('auto', 'eager', 'on_demand')
+# Beyond this many robots, 'auto' makes the optional topics on demand.
+ON_DEMAND_ABOVE = 100
 # STDR's frame at the map's origin, in which its robots' poses are given.
 STDR_STATIC_FRAME = 'map_static'
 REP105_FRAMES = ('odom_frame_id', 'base_frame_id')
@@ -78,6 +81,12 @@ PARAMETERS = (
                   NON_NEGATIVE),
     ParameterSpec('cmd_vel_stamped', False, 'take commands as geometry_msgs/TwistStamped (as '
                   'Nav2 sends from Kilted on) instead of geometry_msgs/Twist'),
+    ParameterSpec('optional_topics', 'auto', "when each robot's ground truth and sensor "
+                  "topics are made: 'eager' at once; 'on_demand' once the graph shows a "
+                  'reader (within a second; they are absent from a topic list until then); '
+                  f"'auto' eager up to {ON_DEMAND_ABOVE} robots, on demand beyond (every "
+                  'endpoint slows the making of the next: a swarm starts in seconds)',
+                  choices=OPTIONAL_TOPICS),
     ParameterSpec('frame_style', 'rep105', "the TF tree: 'rep105' map -> <robot>/odom -> "
                   "<robot>/base_link -> <robot>/<sensor>; 'stdr' STDR's, map -> map_static -> "
                   '<robot> -> <robot>_<sensor>, with the odometry in map_static',

@@ -21,10 +21,14 @@ class RobotTopics:
     count of their readers from the middleware's matched events rather than asking the graph
     at every message; on_truth_reader(name) is called when the ground truth gains one, so a
     late reader gets the current truth at once (in lockstep the next may be long in coming).
+
+    Every endpoint costs the node more the more it has (a large swarm's start is dominated by
+    their number), so with on_demand the ground truth and the sensors get their publishers only
+    once the graph shows a reader of their topic (see wanted and make_wanted).
     """
 
     def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose,
-                 on_truth_reader):
+                 on_truth_reader, on_demand=False):
         name, prefix = robot.name, robot.namespace
         self.name = name
         self._node = node
@@ -36,8 +40,8 @@ class RobotTopics:
         self._ground_truth.child_frame_id = frames.base(prefix)
         self.odom_publisher = node.create_publisher(Odometry, f'{prefix}/odom', 10)
         self._readers = {}
-        self._ground_truth_publisher = self._counted_publisher(
-            Odometry, f'{prefix}/ground_truth', GROUND_TRUTH, lambda: on_truth_reader(name))
+        self._on_truth_reader = on_truth_reader
+        self._ground_truth_publisher = None
         self._prefix, self._frames = prefix, frames
         self._on_command = on_command
         self._command = self._command_subscription(TwistStamped if stamped else Twist)
@@ -46,7 +50,12 @@ class RobotTopics:
             lambda message: on_initial_pose(name, message), 10)
         self.cmd_vel_topic = self._command.topic_name
         self._sensors = {}
-        self._unmade = list(robot.sensors)
+        self._optional = {node.resolve_topic_name(f'{prefix}/{key}'): item for key, item in [
+            (GROUND_TRUTH, GROUND_TRUTH),
+            *((sensor.spec.frame_id, sensor.spec) for sensor in robot.sensors)]}
+        self._unmade = [] if on_demand else list(self._optional.values())
+        if not on_demand:
+            self._make(self._unmade.pop(0))
 
     def _command_subscription(self, kind):
         """Subscribe to the robot's cmd_vel as kind (Twist or TwistStamped)."""
@@ -76,24 +85,47 @@ class RobotTopics:
 
     @property
     def complete(self):
-        """Whether every sensor has its publisher (see make_sensor_topic)."""
+        """Whether every publisher due is made (see make_sensor_topic)."""
         return not self._unmade
+
+    def wanted(self, topic):
+        """Queue the publisher of topic (its full name) if it is one of ours not yet made."""
+        item = self._optional.get(topic)
+        if item is not None and item not in self._unmade and not self._made(item):
+            self._unmade.append(item)
+
+    @property
+    def unmade_topics(self):
+        """Return the full names of the optional topics with no publisher and none due."""
+        return [topic for topic, item in self._optional.items()
+                if item not in self._unmade and not self._made(item)]
+
+    def _made(self, item):
+        return (self._ground_truth_publisher is not None if item == GROUND_TRUTH
+                else item.frame_id in self._sensors)
 
     def make_sensor_topic(self):
         """
-        Make the publisher of one more sensor, if any is left.
+        Make one more publisher that is due, if any is left.
 
         Endpoints cost a fraction of a millisecond each, and a robot may have a hundred
         sensors: a spawn makes them one at a time, between steps. A sensor without its
         publisher yet is read by no one.
         """
-        if not self._unmade:
+        if self._unmade:
+            self._make(self._unmade.pop(0))
+
+    def _make(self, item):
+        if item == GROUND_TRUTH:
+            name = self.name
+            self._ground_truth_publisher = self._counted_publisher(
+                Odometry, f'{self._prefix}/{GROUND_TRUTH}', GROUND_TRUTH,
+                lambda: self._on_truth_reader(name))
             return
-        spec = self._unmade.pop(0).spec
-        message = sensor_message(self._frames.sensor(self._prefix, spec), spec)
-        publisher = self._counted_publisher(type(message), f'{self._prefix}/{spec.frame_id}',
-                                            spec.frame_id)
-        self._sensors[spec.frame_id] = (publisher, message)
+        message = sensor_message(self._frames.sensor(self._prefix, item), item)
+        publisher = self._counted_publisher(type(message), f'{self._prefix}/{item.frame_id}',
+                                            item.frame_id)
+        self._sensors[item.frame_id] = (publisher, message)
 
     def _counted_publisher(self, kind, topic, key, on_new_reader=None):
         """Create a publisher whose matched readers are counted in self._readers[key]."""
@@ -113,7 +145,7 @@ class RobotTopics:
     @property
     def ground_truth_listened(self):
         """Whether anyone subscribes to the ground truth, so it is worth publishing."""
-        return self._readers[GROUND_TRUTH] > 0
+        return self._readers.get(GROUND_TRUTH, 0) > 0
 
     def publish_ground_truth(self, time_ns, reading):
         fill_odometry(self._ground_truth, time_ns, reading)
@@ -145,7 +177,8 @@ class RobotTopics:
                 self._node.destroy_subscription(subscription)
             yield
         publishers = [self.odom_publisher, self._ground_truth_publisher]
-        for publisher in publishers + [publisher for publisher, _ in self._sensors.values()]:
+        publishers += [publisher for publisher, _ in self._sensors.values()]
+        for publisher in filter(None, publishers):
             self._node.destroy_publisher(publisher)
             yield
         self._unmade = []

@@ -16,15 +16,15 @@ from simple_robot_control.validation import describe, shorten
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.command_types import CommandTypeWatch
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
 from stdr_lite.node.frames import FramePublisher
+from stdr_lite.node.graph_watch import GraphWatch
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
-from stdr_lite.node.parameters import (build_simulation, frames, PARAMETERS, search_path,
-                                       STDR_STATIC_FRAME)
+from stdr_lite.node.parameters import (build_simulation, frames, ON_DEMAND_ABOVE, PARAMETERS,
+                                       search_path, STDR_STATIC_FRAME)
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.stepper import Stepper
@@ -69,6 +69,7 @@ class StdrLite(GuardedNode):
             self.note_unsimulated(name, self.simulation.robot(name).description)
         self.requests = RequestQueue(self)
         self._stamped = params['cmd_vel_stamped']
+        self._optional_topics = params['optional_topics']
         self._frame_publisher = FramePublisher(self, self.frames, self.simulation)
         self._topics = {}
         self._clock_publisher = self.create_publisher(ClockMsg, '/clock', 10)
@@ -86,7 +87,7 @@ class StdrLite(GuardedNode):
         HealthWatch(self, self.simulation, self._topics,
                     0.0 if params['lockstep'] else params['real_time_factor'],
                     lambda: self.stepper.playing)
-        CommandTypeWatch(self, self._topics)
+        GraphWatch(self, self._topics)
         self._control = SimulationControl(self)
         EntityServices(self)
         if params['lockstep']:
@@ -122,11 +123,14 @@ class StdrLite(GuardedNode):
         """
         gone = [self._topics.pop(name) for name in set(self._topics)
                 - set(self.simulation.robot_names)]
+        on_demand = (self._optional_topics == 'on_demand' or self._optional_topics == 'auto'
+                     and len(self.simulation.robot_names) > ON_DEMAND_ABOVE)
         for name in self.simulation.robot_names:
             if name not in self._topics:
                 self._topics[name] = RobotTopics(self, self.simulation.robot(name), self.frames,
                                                  self._stamped, self._on_cmd_vel,
-                                                 self._on_initial_pose, self._on_truth_reader)
+                                                 self._on_initial_pose, self._on_truth_reader,
+                                                 on_demand)
         self._frame_publisher.entities_changed()
         for topics in gone:
             yield from topics.dismantle()

@@ -17,6 +17,7 @@ from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
+from stdr_lite.tools.exact_steps import ExactSteps, SimulatorUnavailable
 from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
 
 # Wall seconds the stop command at exit may take to be received.
@@ -29,6 +30,10 @@ PARAMETERS = (
                   '[s of wall time]', Bounds(0.0, 3600.0, low_open=True)),
     ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
                   'simulator that takes them so'),
+    ParameterSpec('simulator', 'stdr_lite', "the simulator's node, whose simulation_interfaces "
+                  'API (pause, simulate_steps) holds each command for exactly its duration; '
+                  'without it, moves are timed by the odometry and may end a step late',
+                  ros_name=True),
 )
 
 DESCRIPTION = ('move_robot: drive a simulated robot by hand, as in the lab. Asks for a linear '
@@ -62,6 +67,7 @@ class MoveRobot(GuardedNode):
                                            params['cmd_vel_stamped'])
         self._odom_topic = self.create_subscription(
             Odometry, f'{params["robot_name"]}/odom', self._on_odometry, 10).topic_name
+        self._exact_steps = ExactSteps(self, params['simulator'], self._odom_timeout)
         self._session_over = threading.Event()
         # A steady timer rather than a guard condition: EventsExecutor supports no guard
         # conditions, and the node must run on any executor.
@@ -96,15 +102,23 @@ class MoveRobot(GuardedNode):
         try:
             odometry = self._next_odometry()
             self._wait_for_simulator()
+            stepped = self._exact_steps.connect()
+            if not stepped:
+                self.get_logger().info('no simulation_interfaces stepping API found: moves are '
+                                       'timed by the odometry')
             while True:
                 self._write(_pose_line(odometry) + '\n')
                 linear, angular, duration = ask_motion(self._read_line, self._write)
-                odometry = self._drive(linear, angular, duration)
+                drive = self._drive_exactly if stepped else self._drive
+                odometry = drive(linear, angular, duration)
         except EndOfInput:
             self._write('\n')
         except SimulatorSilent:
             self.get_logger().error(f'no odometry on {self._odom_topic} for '
                                     f'{self._odom_timeout:g} s: is stdr_lite running?')
+            self._exit_code = EXIT_FAILED
+        except SimulatorUnavailable as problem:
+            self.get_logger().error(f'{problem}: is stdr_lite running?')
             self._exit_code = EXIT_FAILED
         except CommandsUnread as problem:
             self._problem = str(problem)
@@ -125,6 +139,37 @@ class MoveRobot(GuardedNode):
             if time.monotonic() > deadline:
                 raise SimulatorSilent()
             time.sleep(0.01)
+
+    def _drive_exactly(self, linear, angular, duration):
+        """Hold the command for round(duration * rate_hz) steps; return the odometry at rest."""
+        start = self._next_odometry(newer_than=self._odometry)
+        steps = round(duration * self._exact_steps.rate_hz)
+        if steps == 0:
+            return start
+        was_playing = self._exact_steps.pause()
+        try:
+            self._send(linear, angular)
+            self._exact_steps.take(steps)
+            self._send(0.0, 0.0)
+        finally:
+            if was_playing:
+                self._exact_steps.play()
+        if not was_playing:
+            self._exact_steps.take(1)
+        odometry = self._next_odometry(newer_than=self._odometry)
+        while _is_moving(odometry):
+            odometry = self._next_odometry(newer_than=odometry)
+        return odometry
+
+    def _send(self, linear, angular):
+        """
+        Publish a command for the simulator to take before the request that follows.
+
+        Waiting for the acknowledgement would cost up to Fast DDS's heartbeat period (3 s);
+        on one machine a sample reaches the simulator before a request sent after it, and the
+        simulator takes its events in the order they arrive.
+        """
+        self._commands.publish(linear, angular)
 
     def _drive(self, linear, angular, duration):
         """

@@ -42,10 +42,10 @@ def test_move_robot_without_a_simulator_says_so():
 @pytest.fixture
 def simulator():
     """
-    Run the simulator at four times real time: move_robot times its moves in sim time.
+    Run the simulator at four times real time, to be quick.
 
-    Free-running, a stop command that lands d wall seconds late drives 4d m too far at 1 m/s;
-    at 4x a hiccup of 12 ms on a loaded machine stays within the tolerance below.
+    move_robot hands each move's duration to the simulator (pause, simulate_steps, play), so a
+    loaded machine delays a move but never lengthens it.
     """
     process = start('stdr_lite', '--ros-args', '-p', 'real_time_factor:=4.0')
     try:
@@ -81,7 +81,16 @@ def test_move_robot_re_asks_after_a_bad_number(simulator):
     assert "Not a finite number: 'fast'" in session.stdout
     assert "Not a finite number: 'nan'" in session.stdout
     assert 'Must be at least 0' in session.stdout
-    assert poses(session.stdout)[-1][2] == pytest.approx(45.0, abs=0.5)
+    # One step late would read 45.9 degrees.
+    assert poses(session.stdout)[-1][2] == pytest.approx(45.0, abs=0.05)
+
+
+def test_move_robot_times_by_odometry_without_the_stepping_api(simulator):
+    session = run('move_robot', '--ros-args', '-p', 'simulator:=elsewhere',
+                  stdin_text='0\n45\n1\n', timeout=60)
+    assert session.returncode == 0, session.stderr
+    assert 'moves are timed by the odometry' in session.stderr
+    assert poses(session.stdout)[-1][2] == pytest.approx(45.0, abs=3.0)
 
 
 def test_simulator_stops_on_ctrl_c_even_when_its_parent_ignored_it():

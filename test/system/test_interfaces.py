@@ -91,3 +91,51 @@ def test_a_package_that_imports_already_is_left_alone(tmp_path):
 
 def test_colcon_leaves_the_interfaces_to_rosdep():
     assert (REPOSITORY / 'interfaces' / 'COLCON_IGNORE').is_file()
+
+
+def built_here(name):
+    """Return the digest this environment's build of name came from, or skip the test."""
+    stamp = Path(sys.prefix) / 'share' / name / 'built_from_interfaces'
+    if not stamp.is_file():
+        pytest.skip(f'{name} is provided by this environment, not built from interfaces/')
+    return stamp.read_text().strip()
+
+
+@pytest.mark.parametrize('name', ['simulation_interfaces', 'tf2_msgs'])
+def test_only_what_rclpy_uses_is_generated(name):
+    built_here(name)
+    libraries = sorted(path.name for path in (Path(sys.prefix) / 'lib').glob(f'lib{name}__*'))
+    assert f'lib{name}__rosidl_typesupport_c.so' in libraries
+    assert f'lib{name}__rosidl_typesupport_fastrtps_c.so' in libraries
+    assert not [library for library in libraries if library.endswith('_cpp.so')], libraries
+    assert not list((Path(sys.prefix) / 'include' / name).rglob('*.hpp'))
+
+
+def test_another_environment_gets_the_build_from_the_cache(tmp_path):
+    """A second clone restores the build kept in the machine's cache, moved to its prefix."""
+    digest = built_here('tf2_msgs')
+    cache = Path(os.environ.get('SIMPLE_ROBOT_CONTROL_CACHE') or Path(
+        os.environ.get('XDG_CACHE_HOME') or Path.home() / '.cache') / 'simple_robot_control')
+    if not (cache / 'interfaces' / f'tf2_msgs-{digest}.tar.gz').is_file():
+        pytest.skip('this environment was built with the cache off or cleared')
+    other = tmp_path / 'venv'
+    (other / 'bin').mkdir(parents=True)
+    (other / 'bin' / 'python').write_text(f'#!/bin/sh\nexec {sys.executable} "$@"\n')
+    (other / 'bin' / 'python').chmod(0o755)
+    # A stale build of its own, so that its Python (ours) importing tf2_msgs does not count.
+    (other / 'share' / 'tf2_msgs').mkdir(parents=True)
+    (other / 'share' / 'tf2_msgs' / 'built_from_interfaces').write_text('stale\n')
+    interfaces = tmp_path / 'interfaces'
+    shutil.copytree(REPOSITORY / 'interfaces' / 'cmake', interfaces / 'cmake')
+    shutil.copytree(REPOSITORY / 'interfaces' / 'tf2_msgs', interfaces / 'tf2_msgs')
+    result = subprocess.run(['bash', str(BUILD), str(other), str(interfaces)],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines() == [f'tf2_msgs: restored from {cache / "interfaces"}']
+    assert (other / 'share' / 'tf2_msgs' / 'built_from_interfaces').read_text().strip() == digest
+    assert (other / 'lib' / 'libtf2_msgs__rosidl_typesupport_c.so').is_file()
+    assert list(other.glob('lib/python3*/site-packages/tf2_msgs/msg/_tf_message.py'))
+    restored = [path for path in other.rglob('*') if path.is_file() and path.suffix != '.so'
+                and path.parent.name != 'bin']
+    assert not [path for path in restored if sys.prefix in path.read_text(errors='ignore')]
+    assert [path for path in restored if str(other) in path.read_text(errors='ignore')]
