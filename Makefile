@@ -25,22 +25,22 @@ lab-session: install
 swarm: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/swarm.sh
 
-bench: install
+bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.controller
 	$(PYTHON) -m bench.optimum
 	$(PYTHON) -m bench.realtime
 	$(PYTHON) -m bench.viewer
 	$(PYTHON) -m bench.requests
 
-test: install
+test: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest
 
 # One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
-test-unit test-node test-system: install
+test-unit test-node test-system: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest test/$(@:test-%=%)
 
 # STDR's own robot files load unchanged: STDR_RESOURCES=<stdr_simulator>/stdr_resources/resources
-check-stdr: install
+check-stdr: install $(VENV)/.test-dependencies
 	test -d "$(STDR_RESOURCES)/robots" || { echo 'check-stdr: set STDR_RESOURCES to the stdr_resources/resources folder of an stdr_simulator checkout' >&2; exit 2; }
 	STDR_RESOURCES="$(abspath $(STDR_RESOURCES))" $(PYTHON) -m pytest -q test/unit/test_stdr_release_files.py
 
@@ -53,10 +53,16 @@ $(VENV)/.interfaces: $(VENV)/.dependencies scripts/build_interfaces.sh requireme
 	scripts/build_interfaces.sh $(VENV)
 	touch $@
 
-$(VENV)/.dependencies: requirements/ros-jazzy.txt requirements/test.txt setup.py
+# What the nodes need; the test tools (pytest, the linters, colcon, OMPL) only for the tests
+# and benchmarks, so that a first `make demo` installs what it runs and no more.
+$(VENV)/.dependencies: requirements/ros-jazzy.txt setup.py
 	test -x $(PYTHON) || python3 -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip setuptools wheel 2> >(grep -v 'is ignored' >&2)
-	$(PIP) install --quiet -r requirements/test.txt . 2> >(grep -v 'is ignored' >&2)
+	$(PIP) install --quiet -r requirements/ros-jazzy.txt . 2> >(grep -v 'is ignored' >&2)
+	touch $@
+
+$(VENV)/.test-dependencies: $(VENV)/.dependencies requirements/test.txt
+	$(PIP) install --quiet -r requirements/test.txt 2> >(grep -v 'is ignored' >&2)
 	touch $@
 
 clean:
