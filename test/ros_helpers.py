@@ -5,9 +5,11 @@ import time
 
 from geometry_msgs.msg import PoseStamped
 from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.pose import set_pose
+from stdr_lite.node.stdr_lite import StdrLite
 
 
 def spin_until(executor, condition, timeout=10.0, what='condition'):
@@ -28,6 +30,15 @@ def spin_for(executor, seconds):
 def overrides(**values):
     """Parameter overrides for a node's constructor."""
     return [Parameter(name, value=value) for name, value in values.items()]
+
+
+def simulator_and_client(ros_context, executor, **parameters):
+    """Give (stdr_lite with these parameters, a client node), both in the executor."""
+    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(**parameters))
+    client = Node('client', context=ros_context)
+    for node in (simulator, client):
+        executor.add_node(node)
+    return simulator, client
 
 
 def wait_for_subscribers(executor, publisher, timeout=10.0):

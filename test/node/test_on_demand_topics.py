@@ -2,8 +2,7 @@
 
 from nav_msgs.msg import Odometry
 import pytest
-from rclpy.node import Node
-from ros_helpers import overrides, spin_until
+from ros_helpers import overrides, simulator_and_client, spin_until
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from stdr_lite.node.stdr_lite import StdrLite
@@ -19,12 +18,8 @@ def simulator_publishes(simulator, topic):
 @pytest.fixture
 def on_demand(ros_context, executor):
     """Give (simulator, client node): the lab robot, its optional topics made on demand."""
-    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
-        robot_description=LAB_ROBOT, optional_topics='on_demand', real_time_factor=5.0))
-    client = Node('client', context=ros_context)
-    for node in (simulator, client):
-        executor.add_node(node)
-    return simulator, client
+    return simulator_and_client(ros_context, executor, robot_description=LAB_ROBOT,
+                                optional_topics='on_demand', real_time_factor=5.0)
 
 
 def test_no_reader_no_publisher(on_demand, executor):

@@ -8,7 +8,7 @@ import pygame
 import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from ros_helpers import (overrides, pose_stamped, ServiceCaller, spin_until,
+from ros_helpers import (overrides, pose_stamped, ServiceCaller, simulator_and_client, spin_until,
                          wait_for_subscribers)
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.share import shared_file
@@ -34,12 +34,8 @@ OMNI_MODEL = """<kinematic><kinematic_specifications><kinematic_model>omni</kine
 @pytest.fixture
 def turtle(ros_context, executor):
     """Give (simulator, client node): a TurtleBot3-like robot0 at (1, 2, 0) in the lab room."""
-    simulator = StdrLite(context=ros_context, parameter_overrides=overrides(
-        robot_description=TURTLEBOT, real_time_factor=5.0))
-    client = Node('client', context=ros_context)
-    for node in (simulator, client):
-        executor.add_node(node)
-    return simulator, client
+    return simulator_and_client(ros_context, executor, robot_description=TURTLEBOT,
+                                real_time_factor=5.0)
 
 
 def test_a_full_turn_laser_reads_the_wall_behind_at_index_180(turtle, executor):
