@@ -8,7 +8,7 @@ PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 # Each is started by simple_robot_control/executables.py, which names its module.
 EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
-               'course_monitor', 'plot_run')
+               'course_monitor', 'plot_run', 'record_run')
 
 setup(
     name=PACKAGE_NAME,
@@ -30,7 +30,7 @@ setup(
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
-                      'pygame', 'regex'],
+                      'pygame', 'regex', 'mcap', 'rosbags'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

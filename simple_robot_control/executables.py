@@ -21,6 +21,7 @@ MODULES = {
     'waypoint_controller': 'waypoint_controller.waypoint_controller',
     'course_monitor': 'waypoint_controller.course_monitor',
     'plot_run': 'waypoint_controller.plot_run',
+    'record_run': 'simple_robot_control.record_run',
 }
 
 
@@ -68,3 +69,4 @@ stdr_ctl = partial(start, 'stdr_ctl')
 waypoint_controller = partial(start, 'waypoint_controller')
 course_monitor = partial(start, 'course_monitor')
 plot_run = partial(start, 'plot_run')
+record_run = partial(start, 'record_run')

@@ -95,7 +95,7 @@ def test_plot_run_draws_an_interrupted_record_and_says_so(tmp_path):
 
 
 ROS_EXECUTABLES = {'stdr_lite': [], 'stdr_viewer': [], 'move_robot': [], 'stdr_ctl': ['state'],
-                   'waypoint_controller': [], 'course_monitor': []}
+                   'waypoint_controller': [], 'course_monitor': [], 'record_run': []}
 
 
 @pytest.mark.parametrize('name', ROS_EXECUTABLES)

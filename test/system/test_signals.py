@@ -49,10 +49,10 @@ def test_the_simulator_stops_in_every_mode(tmp_path, mode, signal_number):
 
 @pytest.mark.parametrize('signal_number', SIGNALS, ids=lambda number: number.name)
 @pytest.mark.parametrize('name', ['stdr_lite', 'waypoint_controller', 'course_monitor',
-                                  'move_robot', 'stdr_viewer', 'plot_run'])
+                                  'record_run', 'move_robot', 'stdr_viewer', 'plot_run'])
 def test_a_signal_while_starting_up_is_quiet(tmp_path, name, signal_number):
     log = tmp_path / f'{name}.log'
-    process = start_logged(name, log=log, stdin=subprocess.PIPE)
+    process = start_logged(name, log=log, stdin=subprocess.PIPE, cwd=tmp_path)
     time.sleep(0.3)
     assert_quiet_prompt_exit(process, signal_number, log)
 

@@ -21,7 +21,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
         'simple_robot_control/occupancy_map.py', 'simple_robot_control/command_line.py',
-        'simple_robot_control/share.py'] + [
+        'simple_robot_control/share.py', 'simple_robot_control/bag.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'continuity', 'status', 'waypoints',
         'run_record', 'planner', 'reeds_shepp', 'clearance')]

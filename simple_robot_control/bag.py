@@ -1,0 +1,140 @@
+"""
+Runs written as rosbag2 bags in MCAP, the way Jazzy's `ros2 bag record` writes them.
+
+One .mcap file that ros2 bag (Jazzy's MCAP storage plugin), Foxglove and rosbags all open: the
+ros2 profile (CDR messages, ros2msg schemas with their dependencies), a channel per topic whose
+metadata holds the offered QoS profiles in rosbag2's YAML (so transient-local topics replay as
+transient local) and the type hash, chunks written out as they fill (a bag cut short stays
+readable up to its last chunk), and the summary with its statistics at the end. The file
+format is mcap's; the message definitions come from rosbags' Jazzy type store, or from the
+installed .msg files for the types it lacks. No ROS client here: messages arrive serialised.
+"""
+
+import json
+import os
+from pathlib import Path
+import sys
+import time
+from typing import BinaryIO
+
+from mcap.writer import CompressionType, Writer
+from rosbags.typesys import get_types_from_msg, get_typestore, Stores
+from rosbags.typesys.base import TypesysError
+import yaml
+
+# rosbag2's MCAP storage defaults to chunks of about 768 KiB; smaller ones lose less when a
+# recording is killed, at a few bytes of index each.
+CHUNK_SIZE = 256 << 10
+# Bytes reach the disk at least this often (wall seconds), so a killed recording keeps them.
+FLUSH_PERIOD = 0.5
+# rmw's infinite duration, as rosbag2 writes it for a policy a publisher leaves unset.
+INFINITE = {'sec': 9223372036, 'nsec': 854775807}
+QOS_KEYS = ('history', 'depth', 'reliability', 'durability', 'deadline', 'lifespan',
+            'liveliness', 'liveliness_lease_duration', 'avoid_ros_namespace_conventions')
+_TYPESTORE = get_typestore(Stores.ROS2_JAZZY)
+
+
+class BagError(ValueError):
+    """A topic's type cannot be described, or the bag cannot be written."""
+
+
+def _share_folders():
+    prefixes = os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep) + [sys.prefix]
+    return [Path(prefix) / 'share' for prefix in prefixes if prefix]
+
+
+def _installed(type_name, suffix):
+    """Return the installed interface file of type_name (pkg/msg/Type) with suffix, or None."""
+    package, kind, name = type_name.split('/')
+    for share in _share_folders():
+        path = share / package / kind / f'{name}{suffix}'
+        if path.is_file():
+            return path
+    return None
+
+
+def message_definition(type_name: str) -> str:
+    """Return the ros2msg schema of type_name: its .msg text, then each dependency's."""
+    for _ in range(100):
+        try:
+            return _TYPESTORE.generate_msgdef(type_name, ros_version=2)[0]
+        except (TypesysError, KeyError) as error:
+            missing = _missing_type(error, type_name)
+            path = _installed(missing, '.msg') if missing.count('/') == 2 else None
+            if path is None:
+                raise BagError(f'{type_name}: no message definition of {missing} found in '
+                               'the type store or the installed packages') from None
+            _TYPESTORE.register(get_types_from_msg(path.read_text(), missing))
+    raise BagError(f'{type_name}: its definition has too many dependencies')
+
+
+def _missing_type(error, type_name):
+    """Name the type a type store error is about: a pkg/msg/Type, or the one asked for."""
+    for word in str(error).replace('"', ' ').replace("'", ' ').split():
+        if word.count('/') == 2 and word not in _TYPESTORE.fielddefs:
+            return word
+    return type_name
+
+
+def type_hash(type_name: str) -> str:
+    """Return the RIHS01 hash of type_name from its installed type description, or ''."""
+    path = _installed(type_name, '.json')
+    if path is None:
+        return ''
+    try:
+        hashes = json.loads(path.read_text())['type_hashes']
+        return next(entry['hash_string'] for entry in hashes if entry['type_name'] == type_name)
+    except (ValueError, KeyError, TypeError, StopIteration):
+        return ''
+
+
+def qos_yaml(profiles: list[dict]) -> str:
+    """Write offered QoS profiles as rosbag2 (bag version 9) stores them in a channel."""
+    return yaml.safe_dump([{key: profile[key] for key in QOS_KEYS} for profile in profiles],
+                          sort_keys=False, default_flow_style=False).strip() if profiles else ''
+
+
+class BagWriter:
+    """Writes one MCAP bag: add_topic once per topic, then write its serialised messages."""
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+        try:
+            self._stream: BinaryIO = open(self.path, 'wb')
+        except OSError as error:
+            raise BagError(f'{path}: cannot write the bag: {error.strerror}') from None
+        self._writer = Writer(self._stream, chunk_size=CHUNK_SIZE,
+                              compression=CompressionType.NONE)
+        self._writer.start(profile='ros2', library='simple_robot_control')
+        self._schemas, self._channels = {}, {}
+        self._flushed_at = time.monotonic()
+        self.message_count = 0
+
+    def add_topic(self, topic: str, type_name: str, offered_qos: list[dict]) -> int:
+        """Add a topic of type_name (pkg/msg/Type); return its channel id."""
+        if topic in self._channels:
+            return self._channels[topic]
+        if type_name not in self._schemas:
+            self._schemas[type_name] = self._writer.register_schema(
+                name=type_name, encoding='ros2msg',
+                data=message_definition(type_name).encode())
+        self._channels[topic] = self._writer.register_channel(
+            topic=topic, message_encoding='cdr', schema_id=self._schemas[type_name],
+            metadata={'offered_qos_profiles': qos_yaml(offered_qos),
+                      'topic_type_hash': type_hash(type_name)})
+        return self._channels[topic]
+
+    def write(self, channel: int, log_time_ns: int, data: bytes) -> None:
+        """Write one serialised message of a channel, received at log_time_ns."""
+        self._writer.add_message(channel_id=channel, log_time=log_time_ns, data=data,
+                                 publish_time=log_time_ns)
+        self.message_count += 1
+        if time.monotonic() - self._flushed_at > FLUSH_PERIOD:
+            self._stream.flush()
+            self._flushed_at = time.monotonic()
+
+    def close(self) -> None:
+        """Finish the bag: the last chunk, the summary, the statistics."""
+        if not self._stream.closed:
+            self._writer.finish()
+            self._stream.close()

@@ -1,0 +1,92 @@
+"""Bags in MCAP as Jazzy's rosbag2 writes them, read back by independent readers."""
+
+from mcap.exceptions import McapError
+from mcap.reader import make_reader
+from mcap.records import Message
+from mcap.stream_reader import StreamReader
+import pytest
+from rosbags.highlevel import AnyReader
+from simple_robot_control.bag import (BagError, BagWriter, CHUNK_SIZE, INFINITE,
+                                      message_definition, qos_yaml, type_hash)
+import yaml
+
+LATCHED = {'history': 'keep_last', 'depth': 1, 'reliability': 'reliable',
+           'durability': 'transient_local', 'deadline': INFINITE, 'lifespan': INFINITE,
+           'liveliness': 'automatic', 'liveliness_lease_duration': INFINITE,
+           'avoid_ros_namespace_conventions': False}
+# std_msgs/String 'WAYPOINT 1', serialised: CDR header, length with the NUL, text, NUL.
+STATUS = b'\x00\x01\x00\x00' + (11).to_bytes(4, 'little') + b'WAYPOINT 1\x00'
+
+
+def write_bag(path, count=3):
+    bag = BagWriter(path)
+    channel = bag.add_topic('/robot_status', 'std_msgs/msg/String', [LATCHED])
+    for index in range(count):
+        bag.write(channel, 1_000_000_000 + index, STATUS)
+    return bag
+
+
+def test_the_channel_holds_what_rosbag2s_mcap_storage_reads(tmp_path):
+    write_bag(tmp_path / 'run.mcap').close()
+    with open(tmp_path / 'run.mcap', 'rb') as stream:
+        reader = make_reader(stream)
+        summary = reader.get_summary()
+        header = reader.get_header()
+    assert header.profile == 'ros2'
+    (channel,) = summary.channels.values()
+    schema = summary.schemas[channel.schema_id]
+    assert (channel.topic, channel.message_encoding) == ('/robot_status', 'cdr')
+    assert (schema.name, schema.encoding) == ('std_msgs/msg/String', 'ros2msg')
+    assert schema.data.decode() == 'string data\n'
+    assert channel.metadata['topic_type_hash'] == type_hash('std_msgs/msg/String')
+    assert channel.metadata['topic_type_hash'].startswith('RIHS01_')
+    (profile,) = yaml.safe_load(channel.metadata['offered_qos_profiles'])
+    assert list(profile) == ['history', 'depth', 'reliability', 'durability', 'deadline',
+                             'lifespan', 'liveliness', 'liveliness_lease_duration',
+                             'avoid_ros_namespace_conventions']
+    assert profile['durability'] == 'transient_local'
+    assert profile['deadline'] == {'sec': 9223372036, 'nsec': 854775807}
+    assert summary.statistics.message_count == 3
+    assert summary.statistics.channel_message_counts == {channel.id: 3}
+
+
+def test_rosbags_reads_every_message_in_order_with_its_qos(tmp_path):
+    write_bag(tmp_path / 'run.mcap').close()
+    with AnyReader([tmp_path / 'run.mcap']) as reader:
+        (connection,) = reader.connections
+        assert connection.ext.offered_qos_profiles[0].durability.name == 'TRANSIENT_LOCAL'
+        messages = [(stamp, reader.deserialize(data, connection.msgtype).data)
+                    for connection, stamp, data in reader.messages()]
+    assert messages == [(1_000_000_000 + index, 'WAYPOINT 1') for index in range(3)]
+
+
+def test_a_bag_cut_short_keeps_its_complete_chunks(tmp_path):
+    bag = write_bag(tmp_path / 'cut.mcap', count=40_000)
+    bag._stream.flush()  # what FLUSH_PERIOD does while running; then the process is killed
+    stamps = []
+    with open(tmp_path / 'cut.mcap', 'rb') as stream:
+        try:
+            for record in StreamReader(stream, emit_chunks=False).records:
+                if isinstance(record, Message):
+                    stamps.append(record.log_time)
+        except McapError:
+            pass  # the record the cut went through
+    # Whole chunks of about CHUNK_SIZE bytes each (50 bytes a message), from the first on.
+    assert CHUNK_SIZE // 50 < len(stamps) < 40_000
+    assert stamps == [1_000_000_000 + index for index in range(len(stamps))]
+
+
+def test_a_dependency_outside_the_type_store_comes_from_its_installed_msg():
+    text = message_definition('simulation_interfaces/msg/EntityState')
+    assert text.startswith('std_msgs/Header header\n')
+    assert '\nMSG: geometry_msgs/Accel\n' in text
+    assert '=' * 80 + '\nMSG: builtin_interfaces/Time\n' in text
+
+
+def test_an_unknown_type_is_named():
+    with pytest.raises(BagError, match='no_such_msgs/msg/Thing'):
+        message_definition('no_such_msgs/msg/Thing')
+
+
+def test_no_profile_no_yaml():
+    assert qos_yaml([]) == ''
