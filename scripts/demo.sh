@@ -9,18 +9,18 @@ set -euo pipefail
 course=${COURSE:-$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control/waypoints/lab_tour.txt}
 speed=${REAL_TIME_FACTOR:-4.0}
 [[ $speed == *.* ]] || speed=$speed.0  # ROS wants a double parameter written as one
-record=${RECORD:-run.jsonl}
+record=${RECORD:-run.mcap}
 picture=${PICTURE:-run.png}
 
 stdr_lite --ros-args -p lockstep:=true -p real_time_factor:="$speed" --log-level warn &
 simulator=$!
 rm -f "$record"
-course_monitor "$course" --ros-args -p record_file:="$record" --log-level warn &
+course_monitor "$course" --ros-args -p bag:="$record" --log-level warn &
 monitor=$!
-# Start the controller once the monitor has the robot's odometry (discovery can take 3 s), so
-# the record, and the picture, hold the whole run.
+# Start the controller once the monitor has begun its bag: in lockstep nothing moves until
+# the controller answers, by which time the monitor records the robot's odometry.
 for _ in $(seq 100); do
-    grep -qs '"pose"' "$record" && break
+    [ -s "$record" ] && break
     sleep 0.1
 done
 viewer=

@@ -8,9 +8,12 @@ robot_status.
 
 import math
 
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Path
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.node_runtime import ConfigError, require
 from simple_robot_control.parameters import ParameterSpec
+from simple_robot_control.pose import set_pose
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
 from simple_robot_control.validation import Bounds
 from waypoint_controller.control_law import ControllerConfig
@@ -18,6 +21,8 @@ from waypoint_controller.waypoints import load_waypoints, WaypointFileError
 
 DEFAULTS = ControllerConfig()
 STATUS_TOPIC = 'robot_status'
+# The course the controller follows, as a nav_msgs/Path: for RViz, and for a run's bag.
+COURSE_TOPIC = 'waypoints'
 
 COURSE_PARAMETERS = (
     ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
@@ -51,6 +56,18 @@ def load_course(node, argument, parameter):
         return path, load_waypoints(path)
     except WaypointFileError as error:
         raise ConfigError(str(error)) from None
+
+
+def course_message(waypoints, frame_id):
+    """Return the course as a nav_msgs/Path in frame_id, a pose per waypoint."""
+    path = Path()
+    path.header.frame_id = frame_id
+    for waypoint in waypoints:
+        stamped = PoseStamped()
+        stamped.header.frame_id = frame_id
+        set_pose(stamped.pose, waypoint.x, waypoint.y, waypoint.theta)
+        path.poses.append(stamped)
+    return path
 
 
 def status_qos(waypoint_count):

@@ -2,12 +2,12 @@
 course_monitor: print robot_status as it arrives, show progress, and record the run.
 
 It only listens, so it can watch any waypoint_controller run, including one already under way:
-robot_status is transient local, so it still receives every message from STARTED on.
+robot_status is transient local, so it still receives every message from STARTED on. The
+record is a rosbag2 bag in MCAP (bag_recording.py), which plot_run draws.
 """
 
 import dataclasses
 import math
-import os
 import sys
 import time
 
@@ -15,16 +15,16 @@ from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.task import Future
 from rclpy.time import Time
+from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.input_files import output_problem
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import shorten
 from std_msgs.msg import String
 from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
-from waypoint_controller.run_record import RunRecordWriter, StatusClock
+from waypoint_controller.run_record import StatusClock
 from waypoint_controller.status import ABORTED, FINISHED, parse_status, STARTED, WAYPOINT
 
 PROGRESS_PERIOD = 0.1
@@ -32,8 +32,9 @@ BAR_WIDTH = 20
 
 # The monitor only describes the run: the controller's tunable values are fixed here.
 PARAMETERS = tuple(dataclasses.replace(spec, tunable=False) for spec in COURSE_PARAMETERS) + (
-    ParameterSpec('record_file', '', 'write the run (odometry and robot_status) to this file '
-                  'as JSON lines, for plot_run; empty: no record'),
+    ParameterSpec('bag', '', "record the run's topics (robot_status, the course, odometry, "
+                  'ground truth, TF, map, clock) into this rosbag2 bag in MCAP, for plot_run, '
+                  'ros2 bag and Foxglove; empty: no record'),
 )
 
 DESCRIPTION = ('course_monitor: print each robot_status message of a waypoint_controller run '
@@ -54,24 +55,12 @@ class CourseMonitor(GuardedNode):
         self._interactive = sys.stdout.isatty() if interactive is None else interactive
         self._total = len(waypoints)
         self._done = 0
-        self._clock = StatusClock()
+        self._status_clock = StatusClock()
         self._sim_started = 0.0
         self._wall_started = None
         self._progress_shown = False
-        self._record = None
-        record_file = params['record_file']
-        if record_file:
-            problem = output_problem(record_file, inputs=[path])
-            if problem is not None:
-                raise ConfigError(f'record_file {record_file}: {problem}')
-            try:
-                self._record = RunRecordWriter(
-                    record_file, os.path.basename(path), waypoints,
-                    params['distance_tolerance'], math.radians(params['angle_tolerance_deg']),
-                    complain=self.get_logger().error)
-            except OSError as error:
-                raise ConfigError(f'{record_file}: cannot write the run record: '
-                                  f'{error.strerror}') from None
+        self.recording = (BagRecording(self, params['bag'], inputs=[path]) if params['bag']
+                          else None)
         self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
         self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,
                                  100)
@@ -85,8 +74,7 @@ class CourseMonitor(GuardedNode):
             self.get_logger().warn('ignoring odometry whose pose is not finite',
                                    throttle_duration_sec=5.0)
             return
-        if self._clock.odometry(stamp, pose) and self._record is not None:
-            self._record.pose(stamp, pose)
+        self._status_clock.odometry(stamp, pose)
 
     def _on_status(self, message):
         if self.finished.done():
@@ -100,7 +88,7 @@ class CourseMonitor(GuardedNode):
             self._write(f'(not a status of this course: {shorten(repr(text), 80)})\n')
             return
         kind = status.kind
-        date = self._clock.date(text)
+        date = self._status_clock.date(text)
         if kind == STARTED:
             self._wall_started = time.monotonic()
             self._sim_started = date
@@ -108,8 +96,6 @@ class CourseMonitor(GuardedNode):
             self._done += 1
         self._clear_progress()
         self._write(text + '\n')
-        if self._record is not None:
-            self._record.status(date, text)
         if kind in (FINISHED, ABORTED):
             self._write(self._progress_text(date) + '\n')
             self.finished.set_result(EXIT_OK if kind == FINISHED else EXIT_FAILED)
@@ -117,7 +103,7 @@ class CourseMonitor(GuardedNode):
             self._show_progress()
 
     def _progress_text(self, sim_time=None):
-        sim_time = self._clock.now if sim_time is None else sim_time
+        sim_time = self._status_clock.now if sim_time is None else sim_time
         wall = 0.0 if self._wall_started is None else time.monotonic() - self._wall_started
         filled = round(BAR_WIDTH * self._done / self._total)
         return (f'[{"#" * filled}{"." * (BAR_WIDTH - filled)}] {self._done}/{self._total} '
@@ -136,10 +122,10 @@ class CourseMonitor(GuardedNode):
             self._progress_shown = False
 
     def shut_down(self):
-        """Close the record, so even an interrupted run leaves every line it received."""
+        """Finish the bag, so that even an interrupted run leaves a complete one."""
         self._clear_progress()
-        if self._record is not None:
-            self._record.close()
+        if self.recording is not None:
+            self.recording.close()
 
 
 def _write_stdout(text):

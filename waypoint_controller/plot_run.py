@@ -20,8 +20,10 @@ from simple_robot_control.input_files import output_problem
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, shared_file
 from simple_robot_control.validation import Bounds, compact
-from waypoint_controller.run_record import load_run, RunRecordError
+from waypoint_controller.run_bag import is_bag, load_bag
+from waypoint_controller.run_record import export_run, load_run, RunRecordError
 from waypoint_controller.status import STARTED, WAYPOINT
+from waypoint_controller.waypoints import load_waypoints, WaypointFileError
 
 FIGURE_SIZE = (10.0, 7.5)
 DPI = 100
@@ -139,11 +141,19 @@ def _draw_footprints(axes, record, robot_radius):
 
 def main(argv=None):
     parser = OneLineParser(
-        prog='plot_run', description='Draw a run recorded by course_monitor (its record_file '
-        'parameter) as a PNG: the map, the path coloured by time, each waypoint with its goal '
-        'circle and heading, the poses reported on robot_status, and the footprint at start '
-        'and end.')
-    parser.add_argument('record', help='run record (JSON lines)')
+        prog='plot_run', description='Draw a recorded run as a PNG: the map, the path coloured '
+        'by time, each waypoint with its goal circle and heading, the poses reported on '
+        'robot_status, and the footprint at start and end. The record is a rosbag2 bag in '
+        'MCAP (from course_monitor, record_run or a ros2 bag record of the run: an .mcap file '
+        'or a bag folder), or JSON lines (plot_run --export-jsonl).')
+    parser.add_argument('record', help='the run: a bag (.mcap file or folder) or JSON lines')
+    parser.add_argument('--course', help="the course's waypoint file, for a bag recorded "
+                        "without the controller's /waypoints")
+    parser.add_argument('--robot-name', default='robot0',
+                        help='the robot of the run, in a bag (default robot0)')
+    parser.add_argument('--export-jsonl', metavar='FILE',
+                        help='also write the run as JSON lines (doc/tools.md), for tools of '
+                        'your own')
     parser.add_argument('--map', default=shared_file(*BUNDLED_MAP),
                         help='map_server YAML of the world (default: the bundled lab_room)')
     parser.add_argument('--robot-radius', type=float, default=0.2,
@@ -155,15 +165,22 @@ def main(argv=None):
         if not RADIUS.contains(args.robot_radius):
             raise ValueError(f'--robot-radius must be {RADIUS.text()}, got '
                              f'{compact(args.robot_radius)}')
-        problem = output_problem(output, inputs=[args.record, args.map])
-        if problem is not None:
-            raise ValueError(f'--output {output}: {problem}')
-        record = load_run(args.record)
+        for option, path in (('--output', output), ('--export-jsonl', args.export_jsonl)):
+            problem = path and output_problem(path, inputs=[args.record, args.map])
+            if problem:
+                raise ValueError(f'{option} {path}: {problem}')
+        record = _load(args)
         render_run(record, load_map(args.map), args.robot_radius, output)
+        if args.export_jsonl:
+            export_run(record, args.export_jsonl, complain=lambda line: print(
+                f'plot_run: {line}', file=sys.stderr))
     except (RunRecordError, MapError, ValueError, OSError) as error:
         print(f'plot_run: error: {error}', file=sys.stderr)
         return 2
-    if record.cut_short_line is not None:
+    if record.cut_short_line is not None and is_bag(args.record):
+        print(f'plot_run: {args.record}: the bag was cut short (an interrupted recording); '
+              f'drew the run up to its last complete chunk', file=sys.stderr)
+    elif record.cut_short_line is not None:
         print(f'plot_run: {args.record}:{record.cut_short_line}: the last line was cut short '
               '(an interrupted run); drew the run up to the line before it', file=sys.stderr)
     if record.skipped_lines:
@@ -173,6 +190,17 @@ def main(argv=None):
               f'are no robot_status of the lab (lines {lines}{more})', file=sys.stderr)
     print(f'wrote {output}')
     return 0
+
+
+def _load(args):
+    """Read the run from a bag or a JSON-lines record, as the path says."""
+    if not is_bag(args.record):
+        return load_run(args.record)
+    try:
+        course = load_waypoints(args.course) if args.course else None
+    except WaypointFileError as error:
+        raise ValueError(str(error)) from None
+    return load_bag(args.record, args.robot_name, course)
 
 
 if __name__ == '__main__':

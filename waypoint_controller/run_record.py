@@ -171,6 +171,20 @@ class RunRecordWriter:
             self._complain(problem)
 
 
+def export_run(record: RunRecord, path: str | os.PathLike, complain) -> None:
+    """Write a run (read from a bag, say) as JSON lines: its poses, then its statuses."""
+    writer = RunRecordWriter(path, record.course, record.waypoints, record.distance_tolerance,
+                             record.angle_tolerance, complain)
+    entries = [(time, 0, pose) for time, pose in zip(record.times, record.poses)]
+    entries += [(time, 1, text) for time, text in record.statuses]
+    for time, is_status, value in sorted(entries, key=lambda entry: entry[:2]):
+        if is_status:
+            writer.status(time, value)
+        else:
+            writer.pose(time, value)
+    writer.close()
+
+
 def load_run(path: str | os.PathLike) -> RunRecord:
     """
     Read a record written by RunRecordWriter; RunRecordError names what is wrong.

@@ -5,7 +5,7 @@ import math
 import sys
 import time
 
-from nav_msgs.msg import OccupancyGrid, Odometry
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -26,8 +26,8 @@ from std_msgs.msg import String
 from waypoint_controller.clearance import Clearance
 from waypoint_controller.continuity import jump_problem
 from waypoint_controller.control_law import CourseFollower
-from waypoint_controller.course import (COURSE_PARAMETERS, DEFAULTS, load_course, status_qos,
-                                        STATUS_TOPIC)
+from waypoint_controller.course import (course_message, COURSE_PARAMETERS, COURSE_TOPIC,
+                                        DEFAULTS, load_course, status_qos, STATUS_TOPIC)
 from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.stall import StallDetector
 from waypoint_controller.status import aborted, finished, started, waypoint_reached
@@ -124,6 +124,8 @@ class WaypointController(GuardedNode):
         self._has_map = self._map_given_up = False
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
                                                        status_qos(len(waypoints)))
+        self._course_publisher = self.create_publisher(Path, COURSE_TOPIC, status_qos(0))
+        self._course_publisher.publish(course_message(waypoints, 'map'))
         robot = params['robot_name']
         self._commands = VelocityPublisher(self, f'{robot}/cmd_vel', params['cmd_vel_stamped'])
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',

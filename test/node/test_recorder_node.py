@@ -17,12 +17,12 @@ def test_a_run_is_recorded_in_order_with_its_qos(ros_context, executor, tmp_path
     recorder = RunRecorder(bag=str(tmp_path / 'run.mcap'), context=ros_context)
     executor.add_node(recorder)
     wanted = {'/robot_status', '/robot0/odom', '/tf', '/tf_static', '/map'}
-    spin_until(executor, lambda: wanted <= set(recorder.topics), timeout=20.0,
+    spin_until(executor, lambda: wanted <= set(recorder.recording.topics), timeout=20.0,
                what='every topic of the run subscribed')
-    spin_until(executor, lambda: recorder.bag.message_count > 200, timeout=20.0,
+    spin_until(executor, lambda: recorder.recording.bag.message_count > 200, timeout=20.0,
                what='a few seconds of the run')
     status.publish(String(data='FINISHED'))
-    spin_until(executor, lambda: recorder.bag.message_count > 400, timeout=20.0,
+    spin_until(executor, lambda: recorder.recording.bag.message_count > 400, timeout=20.0,
                what='more of the run')
     recorder.shut_down()
     with AnyReader([tmp_path / 'run.mcap']) as reader:

@@ -15,6 +15,7 @@ from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.course import status_qos
 from waypoint_controller.course_monitor import CourseMonitor
 from waypoint_controller.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
+from waypoint_controller.run_bag import load_bag
 from waypoint_controller.run_record import load_run
 from waypoint_controller.status import parse_status
 from waypoint_controller.waypoint_controller import WaypointController
@@ -24,20 +25,24 @@ COURSE = '2.5 2 0\n2.5 3 90\n'
 
 @pytest.fixture
 def recorded_run(ros_context, executor, tmp_path):
-    """Drive a two-waypoint course in lockstep with course_monitor recording; return paths."""
-    course, record = tmp_path / 'course.txt', tmp_path / 'run.jsonl'
+    """Drive a two-waypoint course in lockstep, course_monitor recording its bag; give paths."""
+    course, record = tmp_path / 'course.txt', tmp_path / 'run.mcap'
     course.write_text(COURSE)
     output = []
     simulator = StdrLite(context=ros_context,
                          parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
     monitor = CourseMonitor(str(course), write=output.append, interactive=False,
-                            context=ros_context,
-                            parameter_overrides=overrides(record_file=str(record)))
-    controller = WaypointController(str(course), context=ros_context)
-    for node in (simulator, monitor, controller):
+                            context=ros_context, parameter_overrides=overrides(bag=str(record)))
+    for node in (simulator, monitor):
         executor.add_node(node)
+    received = monitor.recording.received
+    spin_until(executor, lambda: '/robot0/odom' in monitor.recording.topics, what='the record')
+    controller = WaypointController(str(course), context=ros_context)
+    executor.add_node(controller)
     executor.spin_until_future_complete(monitor.finished, timeout_sec=60.0)
     assert monitor.finished.result() == 0
+    spin_until(executor, lambda: received['/waypoints'] and received['/robot_status'] == 4,
+               what='the course and the statuses recorded')
     monitor.shut_down()
     return course, record, ''.join(output)
 
@@ -53,8 +58,8 @@ def test_monitor_prints_each_status_and_a_summary(recorded_run):
 
 def test_record_holds_the_run(recorded_run):
     course, record_path, _ = recorded_run
-    record = load_run(record_path)
-    assert record.course == course.name and len(record.waypoints) == 2
+    record = load_bag(record_path)
+    assert record.course == record_path.name and len(record.waypoints) == 2
     assert record.result == 'FINISHED'
     assert np.all(np.diff(record.times) > 0.0)
     assert record.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
@@ -68,7 +73,7 @@ def test_record_holds_the_run(recorded_run):
 def test_picture_of_the_run_is_a_png_of_the_expected_size(recorded_run, tmp_path):
     _, record_path, _ = recorded_run
     picture = tmp_path / 'run.png'
-    render_run(load_run(record_path), load_map(shared_file('maps', 'lab_room.yaml')), 0.2,
+    render_run(load_bag(record_path), load_map(shared_file('maps', 'lab_room.yaml')), 0.2,
                picture)
     assert picture.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     with Image.open(picture) as image:
@@ -88,6 +93,7 @@ def test_plot_run_command_writes_beside_the_record(recorded_run, capsys):
 
 @pytest.mark.parametrize('args, message', [
     (['missing.jsonl'], 'missing.jsonl: cannot read run record'),
+    (['missing.mcap'], 'missing.mcap: cannot read the bag'),
     (['RECORD', '--map', '/no/map.yaml'], '/no/map.yaml: cannot read map file'),
     (['RECORD', '--robot-radius', '-1'], '--robot-radius must be in (0, 10], got -1'),
     (['RECORD', '--output', 'FOLDER'], 'is a folder, not a file'),
@@ -112,13 +118,12 @@ def test_plot_run_writes_the_png_exactly_where_it_is_told(recorded_run):
     assert not output.with_suffix('.png').exists()
 
 
-def test_the_monitor_keeps_what_is_no_status_out_of_the_record(ros_context, executor, tmp_path):
-    course, record = tmp_path / 'course.txt', tmp_path / 'run.jsonl'
+def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor, tmp_path):
+    course = tmp_path / 'course.txt'
     course.write_text(COURSE)
     output = []
     monitor = CourseMonitor(str(course), write=output.append, interactive=False,
-                            context=ros_context,
-                            parameter_overrides=overrides(record_file=str(record)))
+                            context=ros_context)
     speaker = Node('speaker', context=ros_context)
     status = speaker.create_publisher(String, 'robot_status', status_qos(2))
     odometry = speaker.create_publisher(Odometry, '/robot0/odom', 10)
@@ -141,6 +146,25 @@ def test_the_monitor_keeps_what_is_no_status_out_of_the_record(ros_context, exec
     printed = ''.join(output)
     assert printed.count('(not a status of this course: ') == 5
     assert '\x1b' not in printed and len(printed) < 2000
-    kept = load_run(record)
-    assert [text for _, text in kept.statuses] == texts[-2:]
-    assert kept.poses == []
+
+
+def test_the_run_exported_as_json_lines_reads_back_the_same(recorded_run, tmp_path):
+    _, record_path, _ = recorded_run
+    exported = tmp_path / 'run.jsonl'
+    assert plot_run([str(record_path), '--output', str(tmp_path / 'run.png'),
+                     '--export-jsonl', str(exported)]) == 0
+    bag, record = load_bag(record_path), load_run(exported)
+    assert np.allclose([(waypoint.x, waypoint.y, waypoint.theta)
+                        for waypoint in bag.waypoints],
+                       [(waypoint.x, waypoint.y, waypoint.theta) for waypoint in record.waypoints])
+    assert record.statuses == bag.statuses and record.poses == bag.poses
+    assert np.allclose(record.times, bag.times)
+
+
+def test_plot_run_refuses_a_broken_bag_in_one_line(tmp_path, capsys):
+    broken = tmp_path / 'broken.mcap'
+    broken.write_bytes(b'not an mcap file at all')
+    assert plot_run([str(broken), '--output', str(tmp_path / 'broken.png')]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith(f'plot_run: error: {broken}: not a readable MCAP bag')
+    assert len(error.strip().splitlines()) == 1

@@ -156,9 +156,9 @@ def test_course_monitor_writes_over_nothing(files, record):
     course = files / 'course.txt'
     course.write_text('3 2 0\n')
     record = {'COURSE': str(course)}.get(record, record.replace('FILES', str(files)))
-    result = run('course_monitor', str(course), '--ros-args', '-p', f'record_file:={record}',
+    result = run('course_monitor', str(course), '--ros-args', '-p', f'bag:={record}',
                  timeout=30)
-    assert_one_line_refusal(result, f'record_file {record}: ')
+    assert_one_line_refusal(result, f'bag {record}: ')
     assert course.read_text() == '3 2 0\n'
 
 

@@ -24,7 +24,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/share.py', 'simple_robot_control/bag.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'continuity', 'status', 'waypoints',
-        'run_record', 'planner', 'reeds_shepp', 'clearance')]
+        'run_record', 'run_bag', 'planner', 'reeds_shepp', 'clearance')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
