@@ -31,6 +31,7 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.realtime
 	$(PYTHON) -m bench.viewer
 	$(PYTHON) -m bench.requests
+	$(PYTHON) -m bench.recorder
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest
