@@ -21,7 +21,7 @@ from stdr_lite.tools.exact_steps import ExactSteps, SimulatorUnavailable
 from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
 
 # Wall seconds the stop command at exit may take to be received.
-STOP_DELIVERY = 0.5
+STOP_DELIVERY = 0.4
 
 PARAMETERS = (
     ParameterSpec('robot_name', 'robot0', 'robot to drive: topics <name>/cmd_vel and '
