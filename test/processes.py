@@ -59,17 +59,25 @@ def start_logged(name, *args, log, **popen_options):
                                 **popen_options)
 
 
+def wait_until(condition, what, process=None, timeout=20.0):
+    """Poll condition() until true; fail if process ends first or time runs out."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert process is None or process.poll() is None, (
+            f'{process.args[0]} ended ({process.returncode}) before {what}')
+        assert time.monotonic() < deadline, f'no {what} within {timeout} s'
+        time.sleep(0.05)
+
+
 def wait_for_text(log, text, process=None, timeout=20.0):
     """Wait until the file log holds text; fail if process ends first or time runs out."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        content = Path(log).read_text()
-        if text in content:
-            return content
-        assert process is None or process.poll() is None, (
-            f'{process.args[0]} ended ({process.returncode}) before saying {text!r}:\n{content}')
-        time.sleep(0.05)
-    raise AssertionError(f'no {text!r} within {timeout} s in:\n{Path(log).read_text()}')
+    def said():
+        return text in Path(log).read_text()
+    try:
+        wait_until(said, f'saying {text!r}', process, timeout)
+    except AssertionError as error:
+        raise AssertionError(f'{error}; the log:\n{Path(log).read_text()}') from None
+    return Path(log).read_text()
 
 
 def stop(process, signal_number, timeout=10.0):
