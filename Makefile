@@ -13,8 +13,8 @@ export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 # Peers found within about half a second rather than up to 3 s (see the file).
 export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discovery.xml)
 
-.PHONY: demo lab-session swarm test test-unit test-node test-system check-stdr bench install clean \
-	clean-cache
+.PHONY: demo lab-session swarm grade test test-unit test-node test-system check-stdr bench install \
+	clean clean-cache
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -24,6 +24,11 @@ lab-session: install
 
 swarm: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/swarm.sh
+
+# The tick-off sheet: grade_lab grades waypoint_controller on the bundled courses (grade_report/).
+grade: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" grade_lab --courses waypoints --jobs 2 --lockstep \
+		--real-time-factor 4 --report grade_report -- waypoint_controller {waypoints}
 
 bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.controller

@@ -8,13 +8,13 @@ PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 # Each is started by simple_robot_control/executables.py, which names its module.
 EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
-               'course_monitor', 'plot_run', 'record_run')
+               'course_monitor', 'plot_run', 'record_run', 'grade_lab')
 
 setup(
     name=PACKAGE_NAME,
     version='0.1.0',
     packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
-                                    'waypoint_controller']),
+                                    'waypoint_controller', 'lab_grader']),
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),
@@ -30,7 +30,7 @@ setup(
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
-                      'pygame', 'regex', 'mcap', 'rosbags'],
+                      'pygame', 'regex', 'mcap', 'rosbags', 'psutil'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

@@ -124,10 +124,12 @@ class BagWriter:
                       'topic_type_hash': type_hash(type_name)})
         return self._channels[topic]
 
-    def write(self, channel: int, log_time_ns: int, data: bytes) -> None:
-        """Write one serialised message of a channel, received at log_time_ns."""
+    def write(self, channel: int, log_time_ns: int, data: bytes,
+              publish_time_ns: int | None = None) -> None:
+        """Write one serialised message of a channel: received at log_time_ns, sent at publish."""
         self._writer.add_message(channel_id=channel, log_time=log_time_ns, data=data,
-                                 publish_time=log_time_ns)
+                                 publish_time=log_time_ns if publish_time_ns is None
+                                 else publish_time_ns)
         self.message_count += 1
         if time.monotonic() - self._flushed_at > FLUSH_PERIOD:
             self._stream.flush()

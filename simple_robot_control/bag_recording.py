@@ -4,8 +4,11 @@ Topics recorded into a rosbag2 bag in MCAP as they appear in the graph, on behal
 Topics are matched by pattern against the graph, looked at twice a second, so robots spawned
 later are recorded too; each is subscribed with what its publishers offer (reliable and
 transient local only when all of them are), so a transient-local topic's history is received,
-as ros2 bag does. record_run is a node of its own around it; course_monitor records its run
-with it.
+as ros2 bag does. A message's log time is when it was received (by the node's clock); with
+send_times, its publish time is when it was sent (the middleware's source timestamp, wall
+time), as rosbag2 writes it: rclpy passes that to the callbacks of its Python executors, not to
+the EventsExecutor's, so a node spun by an EventsExecutor records its log time for both.
+record_run is a node of its own around it; course_monitor and grade_lab record runs with it.
 """
 
 from collections import Counter
@@ -52,7 +55,7 @@ def message_class(type_name):
 class BagRecording:
     """Records every topic matching the patterns into the bag at path, for node."""
 
-    def __init__(self, node, path, patterns=RUN_TOPICS, inputs=()):
+    def __init__(self, node, path, patterns=RUN_TOPICS, inputs=(), send_times=False):
         problem = output_problem(path, inputs=inputs)
         if problem is not None:
             raise ConfigError(f'bag {path}: {problem}')
@@ -65,6 +68,8 @@ class BagRecording:
         self._recorded = {}
         self.received = Counter()
         self._skipped = set()
+        self._closed = False
+        self._send_times = send_times
         node.create_timer(GRAPH_PERIOD, self._follow_graph,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._follow_graph()
@@ -83,6 +88,19 @@ class BagRecording:
             publishers = node.get_publishers_info_by_topic(topic)
             if publishers:
                 self._record(topic, types, publishers)
+
+    def record_now(self, topic, type_name, qos, then=None):
+        """
+        Record topic at once, as type_name with qos, before any publisher of it is known.
+
+        Following the graph, a topic is recorded only once its publisher shows, and what that
+        publisher sends before the subscription matches is lost unless it is transient local.
+        A topic subscribed to in advance misses nothing a matching publisher sends; its channel
+        says it was offered qos. then(data, sent), if given, also gets each serialised message
+        and the wall time it was sent at (nanoseconds; None without send_times).
+        """
+        channel = self.bag.add_topic(topic, type_name, [offered(qos)])
+        self._subscribe(topic, message_class(type_name), channel, qos, then)
 
     def _record(self, topic, types, publishers):
         kind = message_class(types[0]) if len(types) == 1 else None
@@ -106,15 +124,32 @@ class BagRecording:
             DurabilityPolicy.TRANSIENT_LOCAL if all(
                 p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
             else DurabilityPolicy.VOLATILE))
+        self._subscribe(topic, kind, channel, qos)
+
+    def _subscribe(self, topic, kind, channel, qos, then=None):
         clock = self._node.get_clock()
 
-        def write(data):
-            self.bag.write(channel, clock.now().nanoseconds, data)
+        def write(data, info=None):
+            if self._closed:
+                return
+            sent = info and info['source_timestamp']
+            self.bag.write(channel, clock.now().nanoseconds, data, sent)
             self.received[topic] += 1
-        self._recorded[topic] = self._node.create_subscription(kind, topic, write, qos, raw=True)
+            if then is not None:
+                then(data, sent)
+
+        def write_with_send_time(data, info):
+            write(data, info)
+        self._recorded[topic] = self._node.create_subscription(
+            kind, topic, write_with_send_time if self._send_times else write, qos, raw=True)
+
+    def subscription(self, topic):
+        """Return the subscription recording topic, or None while it is not recorded."""
+        return self._recorded.get(topic)
 
     def close(self):
         """Finish the bag, so that an interrupted recording is complete and indexed."""
+        self._closed = True
         self.bag.close()
         self._node.get_logger().info(f'{self.bag.path}: {self.bag.message_count} messages of '
                                      f'{len(self._recorded)} topics')

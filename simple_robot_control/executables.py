@@ -22,6 +22,7 @@ MODULES = {
     'course_monitor': 'waypoint_controller.course_monitor',
     'plot_run': 'waypoint_controller.plot_run',
     'record_run': 'simple_robot_control.record_run',
+    'grade_lab': 'lab_grader.grade_lab',
 }
 
 
@@ -70,3 +71,4 @@ waypoint_controller = partial(start, 'waypoint_controller')
 course_monitor = partial(start, 'course_monitor')
 plot_run = partial(start, 'plot_run')
 record_run = partial(start, 'record_run')
+grade_lab = partial(start, 'grade_lab')

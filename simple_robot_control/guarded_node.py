@@ -8,6 +8,7 @@ logged line naming the callback, the exception and where it was raised, and lets
 on. A guarded service answers with its response's defaults, unless given a failure answer.
 """
 
+import functools
 import os
 import time
 import traceback
@@ -30,8 +31,11 @@ class GuardedNode(Node):
         """
         Return callback guarded: an exception is reported, and failure(*args) answered instead.
 
-        failure defaults to returning None; for a service it gives the response to send.
+        failure defaults to returning None; for a service it gives the response to send. The
+        guarded callback has callback's signature, as rclpy reads it (a subscription's callback
+        may take the message info too).
         """
+        @functools.wraps(callback)
         def guarded(*args):
             try:
                 return callback(*args)

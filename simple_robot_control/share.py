@@ -41,6 +41,30 @@ def missing_packages(packages: list[str]) -> list[str]:
     return missing
 
 
+def installed_executable(name: str) -> str:
+    """
+    Return the path of one of the package's executables, wherever it was installed.
+
+    First where `ros2 run` looks (lib/<package>/ of the prefix the ament index gives: a colcon
+    install tree or a ROS installation), then where pip puts it: lib/<package>/ of the
+    environment for an editable install, beside the interpreter for a plain one.
+    FileNotFoundError names the places looked at.
+    """
+    candidates = []
+    try:
+        from ament_index_python.packages import get_package_prefix
+        candidates.append(os.path.join(get_package_prefix(PACKAGE_NAME), 'lib', PACKAGE_NAME,
+                                       name))
+    except (ImportError, LookupError, OSError, ValueError):
+        pass
+    candidates += [os.path.join(sys.prefix, 'lib', PACKAGE_NAME, name),
+                   os.path.join(os.path.dirname(sys.executable), name)]
+    for path in candidates:
+        if os.path.isfile(path) and os.access(path, os.X_OK):
+            return path
+    raise FileNotFoundError(f'{name} is not installed (looked in {", ".join(candidates)})')
+
+
 def shared_file(*parts: str) -> str:
     """Path of a file under the share directory."""
     return os.path.join(share_directory(), *parts)

@@ -2,7 +2,7 @@
 Test fixtures; importing this module keeps every test's DDS traffic on loopback.
 
 The environment is set before any Context exists, so in-process nodes and every subprocess
-the tests start use loopback discovery in a domain of this test session's own. Tests come in
+the tests start use loopback discovery in a domain of this test process's own. Tests come in
 tiers by folder, each also a marker: unit (pure logic, no ROS graph), node (nodes in this
 process), system (installed executables and the install tree); `pytest test/unit` or
 `pytest -m unit` runs one tier.
@@ -10,27 +10,19 @@ process), system (installed executables and the install tree); `pytest test/unit
 
 import os
 from pathlib import Path
-import random
 
 import pytest
 import rclpy
 from rclpy.context import Context
 from ros_helpers import events_executor
+from simple_robot_control.domains import claim_domain
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_STATIC_PEERS'] = ''
-
-
-def _domain_of_this_process():
-    """Pick a domain in 1..100 of the session's own; pytest-xdist's workers get one each."""
-    run = os.environ.get('PYTEST_XDIST_TESTRUNUID')
-    worker = os.environ.get('PYTEST_XDIST_WORKER', 'gw0')
-    if run is None:
-        return random.SystemRandom().randint(1, 100)
-    return (int(run[:8], 16) + int(worker.removeprefix('gw'))) % 100 + 1
-
-
-os.environ['ROS_DOMAIN_ID'] = str(_domain_of_this_process())
+# A domain claimed for this process (each pytest-xdist worker has its own), so that neither the
+# other workers nor a grade_lab running at the same time share it; held until the process ends.
+DOMAIN = claim_domain()
+os.environ['ROS_DOMAIN_ID'] = str(DOMAIN.domain_id)
 # Peers found within about half a second rather than up to 3 s (see the file).
 os.environ.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE', str(
     Path(__file__).resolve().parents[1] / 'config' / 'fastdds_quick_discovery.xml'))

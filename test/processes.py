@@ -4,32 +4,14 @@ import os
 from pathlib import Path
 import signal
 import subprocess
-import sys
 import time
 
-PACKAGE = 'simple_robot_control'
+from simple_robot_control.share import installed_executable
 
 
 def executable(name):
-    """
-    Return the path of an installed executable.
-
-    First where `ros2 run` looks (lib/<package>/ of the prefix the ament index gives: a colcon
-    install tree or a ROS installation), then where pip puts it: lib/<package>/ of the
-    environment for an editable install, beside the interpreter for a plain one.
-    """
-    candidates = []
-    try:
-        from ament_index_python.packages import get_package_prefix
-        candidates.append(Path(get_package_prefix(PACKAGE)) / 'lib' / PACKAGE / name)
-    except (ImportError, LookupError, OSError, ValueError):
-        pass
-    candidates += [Path(sys.prefix) / 'lib' / PACKAGE / name, Path(sys.executable).parent / name]
-    for path in candidates:
-        if os.access(path, os.X_OK) and path.is_file():
-            return str(path)
-    looked = ', '.join(map(str, candidates))
-    raise FileNotFoundError(f'{name} is not installed (looked in {looked})')
+    """Return where an executable is installed (see share.installed_executable)."""
+    return installed_executable(name)
 
 
 def start(name, *args, **popen_options):

@@ -15,12 +15,13 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.transforms import Affine2D
 import numpy as np
+from simple_robot_control.bag_reading import is_bag
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.input_files import output_problem
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, shared_file
 from simple_robot_control.validation import Bounds, compact
-from waypoint_controller.run_bag import is_bag, load_bag
+from waypoint_controller.run_bag import load_bag
 from waypoint_controller.run_record import export_run, load_run, RunRecordError
 from waypoint_controller.status import STARTED, WAYPOINT
 from waypoint_controller.waypoints import load_waypoints, WaypointFileError
@@ -34,7 +35,7 @@ RADIUS = Bounds(0.0, 10.0, low_open=True)
 MAX_NUMBERED_WAYPOINTS = 100
 
 
-def render_run(record, occupancy_map, robot_radius, output_path):
+def render_run(record, occupancy_map, robot_radius, output_path, title=None):
     """Write a PNG of the run: walls, path coloured by time, goals, reports, footprints."""
     figure = Figure(figsize=FIGURE_SIZE, dpi=DPI, layout='constrained')
     FigureCanvasAgg(figure)
@@ -50,7 +51,7 @@ def render_run(record, occupancy_map, robot_radius, output_path):
     axes.set_xlabel('x [m]')
     axes.set_ylabel('y [m]')
     result = record.result or 'UNFINISHED'
-    axes.set_title(f'{record.course}: {result} after {record.duration:.1f} s sim time, '
+    axes.set_title(title or f'{record.course}: {result} after {record.duration:.1f} s sim time, '
                    f'{len(record.waypoints)} waypoints')
     figure.savefig(output_path, dpi=DPI, format='png')
 

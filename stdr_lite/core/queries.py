@@ -20,8 +20,8 @@ class SimulationQueries:
     The read-only half of Simulation: it relies on the state Simulation keeps.
 
     That is world (poses and radii), _entities and _indices (by name), _applied (the velocities
-    of the last step), _motion (obstacles' slides), _odometry and its schedule, the sensor
-    groups and noise, the terrain, step_count and dt_ns.
+    of the last step) and _stalled (its refusals), _motion (obstacles' slides), _odometry and
+    its schedule, the sensor groups and noise, the terrain, step_count and dt_ns.
     """
 
     @property
@@ -83,6 +83,10 @@ class SimulationQueries:
         index = self._index(name)
         linear, lateral, angular = (float(values[index]) for values in self._applied)
         return linear, lateral, angular
+
+    def stalled(self, name: str) -> bool:
+        """Whether the entity's last step was refused: a wall or another body in its way."""
+        return bool(self._stalled[self._index(name)])
 
     def velocity(self, name: str) -> tuple[float, float, float]:
         """Return the (x, y, angular) velocity of the last step in the map frame."""

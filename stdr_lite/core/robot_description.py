@@ -56,7 +56,7 @@ KINEMATIC_MODELS = ('ideal', 'omni')
 MAX_SENSORS = 32
 # A robot's own topics, /<robot>/<name>: a sensor's topic is /<robot>/<frame_id>, so no sensor
 # may take one of these names.
-ROBOT_TOPICS = ('cmd_vel', 'odom', 'ground_truth', 'initialpose')
+ROBOT_TOPICS = ('cmd_vel', 'odom', 'ground_truth', 'stall', 'initialpose')
 # The sensors STDR has that stdr_lite does not simulate, by their flat key and their name.
 UNSIMULATED_KINDS = {'rfid_readers': 'rfid_reader', 'co2_sensors': 'co2_sensor',
                      'thermal_sensors': 'thermal_sensor', 'sound_sensors': 'sound_sensor'}

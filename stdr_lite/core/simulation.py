@@ -83,6 +83,8 @@ class Simulation(SimulationQueries):
                                        self.settings.cmd_vel_timeout)
         # The velocities of the last step (linear, lateral, angular): zero for a blocked body.
         self._applied = (np.zeros(0), np.zeros(0), np.zeros(0))
+        # Whether each body's last step was refused: a wall or another body in its way.
+        self._stalled = np.zeros(0, dtype=bool)
         self._odometry = Odometry(self.settings.odometry_noise, self.settings.odom_seed)
         # A moving obstacle's speed, turn rate and direction of travel (NaN: none).
         self._motion = np.empty((0, 3))
@@ -165,6 +167,7 @@ class Simulation(SimulationQueries):
             self.world.add_robot(entity.start_pose, entity.radius, entity.shape)
         self._commands.add_robot()
         self._applied = tuple(np.append(values, 0.0) for values in self._applied)
+        self._stalled = np.append(self._stalled, False)
         self._odometry.add_robot(entity.start_pose)
         self._motion = np.vstack([self._motion, [0.0, 0.0, np.nan]])
         self._entities.append(entity)
@@ -177,6 +180,7 @@ class Simulation(SimulationQueries):
         self.world.remove_robot(index)
         self._commands.remove_robot(index)
         self._applied = tuple(np.delete(values, index) for values in self._applied)
+        self._stalled = np.delete(self._stalled, index)
         self._odometry.remove_robot(index)
         self._motion = np.delete(self._motion, index, axis=0)
         del self._entities[index]
@@ -248,6 +252,7 @@ class Simulation(SimulationQueries):
             angular = np.where(sliding, self._motion[:, 1], angular)
             headings = self._motion[:, 2]
         moved = self.world.step(linear, angular, self.dt, headings, lateral)
+        self._stalled = ~moved
         self._applied = tuple(np.where(moved, values, 0.0)
                               for values in (linear, lateral, angular))
         if self._odometry.noise.enabled:

@@ -39,6 +39,8 @@ PARAMETERS = (
     ParameterSpec('lockstep', False, 'advance only once every robot has answered its latest '
                   'odometry with a cmd_vel, so sim time never runs ahead of the controller; '
                   'real_time_factor is then an upper bound'),
+    ParameterSpec('paused', False, 'start paused: nothing steps or is published until a '
+                  'set_simulation_state asks to play (as Gazebo starts with paused:=true)'),
     ParameterSpec('robot_description', '', 'robot file of the robots (STDR XML, nested or flat '
                   'YAML); empty for the bundled lab robot'),
     RESOURCE_PATHS,

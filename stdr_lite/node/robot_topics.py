@@ -4,9 +4,17 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.event_handler import PublisherEventCallbacks
 from simple_robot_control.graph import type_name
+from std_msgs.msg import Bool
 from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
 
 GROUND_TRUTH = 'ground_truth'
+# Whether the robot's last step was refused (a wall, a robot or an obstacle in its way).
+STALL = 'stall'
+# A reliable publisher keeps this many messages for a reader that has not acknowledged them: a
+# recorder judging a run from the truth and the stall flag (grade_lab) loses none while it lags
+# up to 2 s of sim time behind at 50 Hz (a lockstep run is as fast as its controller answers).
+# Sensors keep rclpy's usual 10.
+JUDGED_DEPTH = 100
 
 
 class RobotTopics:
@@ -17,14 +25,15 @@ class RobotTopics:
     namespace and can be remapped; <robot> is the robot's topic namespace (its name unless it
     was spawned with another), which prefixes its frames too. Messages are built once and
     refilled at every publish. on_command(name, twist) gets every command's Twist, plain or
-    stamped. The ground truth and the sensors, which cost only when someone listens, keep
-    count of their readers from the middleware's matched events rather than asking the graph
-    at every message; on_truth_reader(name) is called when the ground truth gains one, so a
-    late reader gets the current truth at once (in lockstep the next may be long in coming).
+    stamped. The ground truth, the stall flag and the sensors, which cost only when someone
+    listens, keep count of their readers from the middleware's matched events rather than
+    asking the graph at every message; on_truth_reader(name) is called when the ground truth
+    gains one, so a late reader gets the current truth at once (in lockstep the next may be
+    long in coming).
 
     Every endpoint costs the node more the more it has (a large swarm's start is dominated by
-    their number), so with on_demand the ground truth and the sensors get their publishers only
-    once the graph shows a reader of their topic (see wanted and make_wanted).
+    their number), so with on_demand the ground truth, the stall flag and the sensors get their
+    publishers only once the graph shows a reader of their topic (see wanted and make_wanted).
     """
 
     def __init__(self, node, robot, frames, stamped, on_command, on_initial_pose,
@@ -41,7 +50,8 @@ class RobotTopics:
         self.odom_publisher = node.create_publisher(Odometry, f'{prefix}/odom', 10)
         self._readers = {}
         self._on_truth_reader = on_truth_reader
-        self._ground_truth_publisher = None
+        self._ground_truth_publisher = self._stall_publisher = None
+        self._stall = Bool()
         self._prefix, self._frames = prefix, frames
         self._on_command = on_command
         self._command = self._command_subscription(TwistStamped if stamped else Twist)
@@ -51,7 +61,7 @@ class RobotTopics:
         self.cmd_vel_topic = self._command.topic_name
         self._sensors = {}
         self._optional = {node.resolve_topic_name(f'{prefix}/{key}'): item for key, item in [
-            (GROUND_TRUTH, GROUND_TRUTH),
+            (GROUND_TRUTH, GROUND_TRUTH), (STALL, STALL),
             *((sensor.spec.frame_id, sensor.spec) for sensor in robot.sensors)]}
         self._unmade = [] if on_demand else list(self._optional.values())
         if not on_demand:
@@ -101,8 +111,11 @@ class RobotTopics:
                 if item not in self._unmade and not self._made(item)]
 
     def _made(self, item):
-        return (self._ground_truth_publisher is not None if item == GROUND_TRUTH
-                else item.frame_id in self._sensors)
+        if item == GROUND_TRUTH:
+            return self._ground_truth_publisher is not None
+        if item == STALL:
+            return self._stall_publisher is not None
+        return item.frame_id in self._sensors
 
     def make_sensor_topic(self):
         """
@@ -120,14 +133,18 @@ class RobotTopics:
             name = self.name
             self._ground_truth_publisher = self._counted_publisher(
                 Odometry, f'{self._prefix}/{GROUND_TRUTH}', GROUND_TRUTH,
-                lambda: self._on_truth_reader(name))
+                lambda: self._on_truth_reader(name), JUDGED_DEPTH)
+            return
+        if item == STALL:
+            self._stall_publisher = self._counted_publisher(
+                Bool, f'{self._prefix}/{STALL}', STALL, depth=JUDGED_DEPTH)
             return
         message = sensor_message(self._frames.sensor(self._prefix, item), item)
         publisher = self._counted_publisher(type(message), f'{self._prefix}/{item.frame_id}',
                                             item.frame_id)
         self._sensors[item.frame_id] = (publisher, message)
 
-    def _counted_publisher(self, kind, topic, key, on_new_reader=None):
+    def _counted_publisher(self, kind, topic, key, on_new_reader=None, depth=10):
         """Create a publisher whose matched readers are counted in self._readers[key]."""
         self._readers[key] = 0
 
@@ -136,7 +153,7 @@ class RobotTopics:
             if on_new_reader is not None and status.current_count_change > 0:
                 on_new_reader()
         return self._node.create_publisher(
-            kind, topic, 10, event_callbacks=PublisherEventCallbacks(matched=matched))
+            kind, topic, depth, event_callbacks=PublisherEventCallbacks(matched=matched))
 
     def publish_odometry(self, time_ns, reading):
         fill_odometry(self._odometry, time_ns, reading)
@@ -150,6 +167,15 @@ class RobotTopics:
     def publish_ground_truth(self, time_ns, reading):
         fill_odometry(self._ground_truth, time_ns, reading)
         self._ground_truth_publisher.publish(self._ground_truth)
+
+    @property
+    def stall_listened(self):
+        """Whether anyone subscribes to the stall flag."""
+        return self._readers.get(STALL, 0) > 0
+
+    def publish_stall(self, stalled):
+        self._stall.data = stalled
+        self._stall_publisher.publish(self._stall)
 
     def listened(self, spec):
         """Whether anyone subscribes to this sensor's topic."""
@@ -176,7 +202,7 @@ class RobotTopics:
             if subscription is not None:
                 self._node.destroy_subscription(subscription)
             yield
-        publishers = [self.odom_publisher, self._ground_truth_publisher]
+        publishers = [self.odom_publisher, self._ground_truth_publisher, self._stall_publisher]
         publishers += [publisher for publisher, _ in self._sensors.values()]
         for publisher in filter(None, publishers):
             self._node.destroy_publisher(publisher)

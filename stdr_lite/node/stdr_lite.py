@@ -13,6 +13,7 @@ from simple_robot_control.node_runtime import build_parser, ConfigError, run
 from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import compose, planar_pose
 from simple_robot_control.validation import describe, shorten
+from simulation_interfaces.msg import SimulationState
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
 from stdr_lite.core.world import PlacementError
@@ -31,8 +32,9 @@ from stdr_lite.node.stepper import Stepper
 
 DESCRIPTION = ('stdr_lite: a small STDR-equivalent simulator. For each robot, subscribes '
                '/<robot>/cmd_vel (geometry_msgs/Twist) and /<robot>/initialpose; publishes '
-               '/<robot>/odom (nav_msgs/Odometry), /<robot>/laser_J (sensor_msgs/LaserScan), '
-               '/<robot>/sonar_J (sensor_msgs/Range), /tf and /tf_static. Also /map (transient '
+               '/<robot>/odom (nav_msgs/Odometry), /<robot>/ground_truth, /<robot>/stall '
+               '(std_msgs/Bool), /<robot>/laser_J (sensor_msgs/LaserScan), /<robot>/sonar_J '
+               '(sensor_msgs/Range), /tf and /tf_static. Also /map (transient '
                'local, and as nav_msgs/GetMap on map_server/map and static_map) and /clock; the '
                'standard simulation_interfaces services and the SimulateSteps action under '
                '/stdr_lite/ control time, entities and worlds.')
@@ -90,17 +92,19 @@ class StdrLite(GuardedNode):
         GraphWatch(self, self._topics)
         self._control = SimulationControl(self)
         EntityServices(self)
+        if params['paused']:
+            self.stepper.set_state(SimulationState.STATE_PAUSED)
         if params['lockstep']:
             self.simulation.odometry_due()
             self.stepper.start_over(new_time=True)
         names = self.simulation.names
         robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in self.simulation.pose(name))}'
                             for name in names) if len(names) <= 5 else f'{len(names)} robots')
+        modes = ''.join(f', {mode}' for mode in ('lockstep', 'paused') if params[mode])
         self.get_logger().info(
             f'{self.simulation.occupancy_map.source} {self.simulation.occupancy_map.width}x'
             f'{self.simulation.occupancy_map.height} cells, {robots}, {params["rate_hz"]:g} Hz '
-            f'{params["integrator"]}, real_time_factor {params["real_time_factor"]:g}'
-            + (', lockstep' if params['lockstep'] else ''))
+            f'{params["integrator"]}, real_time_factor {params["real_time_factor"]:g}{modes}')
 
     @property
     def sim_time(self):
@@ -234,7 +238,7 @@ class StdrLite(GuardedNode):
             self._clock_publisher.publish(self._clock_message)
 
     def _publish_state(self):
-        """Publish every robot's odometry, its ground truth and the moving TF frames."""
+        """Publish every robot's odometry, ground truth and stall flag, and the moving frames."""
         simulation = self.simulation
         now_ns = simulation.time_ns
         for name, topics in self._topics.items():
@@ -242,6 +246,8 @@ class StdrLite(GuardedNode):
                                     self._frame_publisher.odometry_reading(simulation, name))
             if topics.ground_truth_listened:
                 topics.publish_ground_truth(now_ns, simulation.ground_truth(name))
+            if topics.stall_listened:
+                topics.publish_stall(simulation.stalled(name))
         self._frame_publisher.publish_moving(simulation, now_ns)
 
     def _publish_sensors(self):

@@ -59,11 +59,20 @@ class Stepper:
             self._requests))
 
     def set_state(self, state):
-        """Enter a state; steps asked for while paused fail when leaving pause."""
+        """
+        Enter a state; steps asked for while paused fail when leaving pause.
+
+        A paused simulation publishes nothing, so in lockstep the odometry still unanswered is
+        published again on play, for the controllers that came while it was paused.
+        """
+        resumed = state == SimulationState.STATE_PLAYING and not self.playing
         self.state = state
         if state != SimulationState.STATE_PAUSED:
             while self._requests:
                 self._requests.popleft().set_result(False)
+        if resumed and self.lockstep and self._simulation.answers.awaiting:
+            self._publish_state()
+            self._repeated_at = time.monotonic()
         self._wake()
 
     def request_step(self):
@@ -134,11 +143,11 @@ class Stepper:
             self._advance()
 
     def _repeat_unanswered_state(self):
-        """Repeat unanswered odometry when a subscriber joins or after a long silence."""
+        """Repeat unanswered odometry when a subscriber joins or after a long silence (playing)."""
         subscribers = self._odometry_subscribers_now()
         joined, self._odometry_subscribers = (subscribers > self._odometry_subscribers,
                                               subscribers)
         silent = time.monotonic() - self._repeated_at > LOCKSTEP_REPEAT_AFTER
-        if self._simulation.answers.awaiting and (joined or silent):
+        if self.playing and self._simulation.answers.awaiting and (joined or silent):
             self._publish_state()
             self._repeated_at = time.monotonic()

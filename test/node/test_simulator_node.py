@@ -15,8 +15,9 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import yaw_from_quaternion
-from simulation_interfaces.msg import Result
-from simulation_interfaces.srv import DeleteEntity, SpawnEntity
+from simulation_interfaces.msg import Result, SimulationState
+from simulation_interfaces.srv import DeleteEntity, SetSimulationState, SpawnEntity
+from std_msgs.msg import Bool
 from stdr_lite.node.stdr_lite import StdrLite
 
 
@@ -146,6 +147,34 @@ def test_lockstep_takes_one_step_per_answer(ros_context, executor):
     assert simulator.sim_time == pytest.approx(answers * 0.02)
     last = probe.odometry[-1]
     assert last.pose.pose.position.x == pytest.approx(1.0 + answers * 0.5 * 0.02)
+
+
+def test_the_stall_flag_says_when_a_wall_refuses_the_robot(ros_context, executor):
+    _, probe = start(ros_context, executor, initial_pose=[18.5, 2.0, 0.0], real_time_factor=5.0)
+    stalls = []
+    probe.create_subscription(Bool, '/robot0/stall', lambda flag: stalls.append(flag.data), 100)
+    spin_until(executor, lambda: stalls, what='the stall flag')
+    assert not any(stalls), 'standing still is no stall'
+    probe.command(executor, 1.0)
+    spin_until(executor, lambda: stalls[-5:] == [True] * 5, what='a stall at the wall')
+    assert probe.odometry[-1].twist.twist.linear.x == 0.0
+    probe.command(executor, -1.0)
+    spin_until(executor, lambda: stalls[-1] is False, what='driving away from the wall')
+
+
+@pytest.mark.parametrize('lockstep', [False, True])
+def test_a_simulator_started_paused_publishes_nothing_until_played(ros_context, executor,
+                                                                   lockstep):
+    simulator, probe = start(ros_context, executor, paused=True, lockstep=lockstep,
+                             real_time_factor=1.0)
+    spin_for(executor, 1.0)
+    assert not probe.odometry and not probe.clock and simulator.sim_time == 0.0
+    call = ServiceCaller(executor, probe)
+    playing = SimulationState(state=SimulationState.STATE_PLAYING)
+    assert call(SetSimulationState, 'set_simulation_state', state=playing).result.result == (
+        Result.RESULT_OK)
+    spin_until(executor, lambda: probe.odometry, what='odometry once played')
+    assert stamps(probe.odometry)[0] == (0 if lockstep else 20_000_000)
 
 
 def test_late_subscriber_receives_the_map(ros_context, executor):

@@ -1,10 +1,10 @@
 """
 The layout's rules, checked from the code's own imports.
 
-Pure modules (the simulation core, the control law and its parts, the shared checks) import no
-ROS client library, so they run and are tested without a ROS graph; the lab's controller does
-not depend on the simulator; no module grows past 400 lines; every executable lives in a module
-named after it.
+Pure modules (the simulation core, the control law and its parts, the grader's rules, the
+shared checks) import no ROS client library, so they run and are tested without a ROS graph;
+the lab's controller does not depend on the simulator, and the grader only on its core; no
+module grows past 400 lines; every executable lives in a module named after it.
 """
 
 import ast
@@ -16,7 +16,7 @@ import pytest
 from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_controller')
+PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_controller', 'lab_grader')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
@@ -24,7 +24,10 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/share.py', 'simple_robot_control/bag.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'continuity', 'status', 'waypoints',
-        'run_record', 'run_bag', 'planner', 'reeds_shepp', 'clearance')]
+        'run_record', 'run_bag', 'planner', 'reeds_shepp', 'clearance')] + [
+    f'lab_grader/{name}.py' for name in (
+        'courses', 'evidence', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
+    'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py']
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -63,6 +66,13 @@ def test_the_controller_does_not_depend_on_the_simulator(path):
 def test_the_shared_runtime_depends_on_neither_tool(path):
     assert not [name for name in imported_modules(path)
                 if name.split('.')[0] in ('stdr_lite', 'waypoint_controller')]
+
+
+@pytest.mark.parametrize('path', modules('lab_grader/*.py'), ids=str)
+def test_the_grader_runs_the_simulator_and_reads_only_its_core(path):
+    """The grader starts stdr_lite as a process, as a course would, and judges from bags."""
+    assert not [name for name in imported_modules(path)
+                if name.startswith('stdr_lite') and not name.startswith('stdr_lite.core')]
 
 
 @pytest.mark.parametrize('path', modules(*(f'{package}/**/*.py' for package in PACKAGES)),

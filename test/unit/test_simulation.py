@@ -172,6 +172,25 @@ def test_obstacles_block_robots_and_are_seen_by_sensors(room):
     assert simulation.pose('rock') == (3.0, 2.0, 0.0)
 
 
+def test_a_robot_stalls_only_while_a_step_of_its_own_is_refused(room):
+    simulation = Simulation(room, robots=[robot('a', 9.0), robot('b', 5.0), robot('c', 2.0)])
+    simulation.add_obstacle('rock', 0.3, (5.6, 2.0, 0.0))
+    simulation.command('a', 1.0, 0.0)
+    simulation.command('b', 1.0, 0.0)
+    simulation.command('c', 0.0, 1.0)
+    stalls = []
+    for _ in range(60):
+        simulation.step()
+        stalls.append([simulation.stalled(name) for name in ('a', 'b', 'c', 'rock')])
+    assert stalls[0] == [False, False, False, False]
+    assert stalls[-1] == [True, True, False, False], 'a at the wall, b at the rock'
+    simulation.command('a', -1.0, 0.0)
+    simulation.step()
+    assert not simulation.stalled('a'), 'a robot at a wall may drive away from it'
+    simulation.remove('a')
+    assert simulation.stalled('b')
+
+
 def test_a_moving_obstacle_slides_until_something_stops_it(room):
     simulation = Simulation(room, robots=[robot('a', 7.0)])
     simulation.add_obstacle('ball', 0.2, (3.0, 2.0, 0.0), moving=True)

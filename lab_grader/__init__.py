@@ -1,0 +1,6 @@
+"""
+lab_grader: the lab's tick-off sheet, automated: grade any controller against hidden courses.
+
+Each course runs in isolation (stdr_lite, a recorder and the submission in a ROS domain of
+their own) and is judged from its bag against the simulator's ground truth.
+"""

@@ -1,0 +1,174 @@
+"""
+The courses a submission is graded on: waypoint files, each with an optional YAML beside it.
+
+A course is a waypoint file of the lab's format (course.txt). A YAML file of the same name
+(course.yaml) may say where the robot starts, in which world, how long the submission has,
+what the course is worth and which limits are graded; anything it leaves out takes the
+grader's defaults, the lab's own: the bundled lab_room, the robot at (1, 2, 0), d = 0.1 m and
+t = 5 degrees. Angles are in degrees, as in waypoint files. No ROS here.
+"""
+
+from dataclasses import dataclass, field, replace
+import difflib
+import math
+import os
+from pathlib import Path
+
+from simple_robot_control.input_files import read_yaml
+from simple_robot_control.share import bundled_files
+from simple_robot_control.validation import Bounds, describe
+from waypoint_controller.waypoints import load_waypoints, Waypoint, WaypointFileError
+
+COURSE_SUFFIX = '.txt'
+YAML_SUFFIXES = ('.yaml', '.yml')
+MAX_COURSES = 1000
+# A course on the bundled map lies within it; any map's within a thousand kilometres.
+POSITION = Bounds(-1e6, 1e6)
+HEADING_DEGREES = Bounds(-3600.0, 3600.0)
+TIME_LIMIT = Bounds(1.0, 86400.0)
+POINTS = Bounds(0.0, 1e6)
+DISTANCE_TOLERANCE = Bounds(0.0, 10.0, low_open=True)
+ANGLE_TOLERANCE_DEGREES = Bounds(0.0, 180.0, low_open=True)
+GRADED_LIMIT = Bounds(0.0, 1e6, low_open=True)
+
+
+class CourseError(ValueError):
+    """A course that cannot be graded; the message is one line naming the file and field."""
+
+
+@dataclass(frozen=True)
+class Course:
+    """One course: its waypoints, its world, and how it is graded (SI units, radians)."""
+
+    name: str
+    waypoint_file: Path
+    waypoints: tuple[Waypoint, ...]
+    start: tuple[float, float, float] = (1.0, 2.0, 0.0)
+    map_file: str = ''
+    robot_file: str = ''
+    time_limit: float = 120.0
+    points: float = 1.0
+    distance_tolerance: float = 0.1
+    angle_tolerance: float = math.radians(5.0)
+    max_time: float | None = None
+    max_path_length: float | None = None
+    settings_file: Path | None = field(default=None, compare=False)
+
+
+def find_courses(paths: list[str | os.PathLike], defaults: Course | None = None) -> list[Course]:
+    """
+    Return the courses of paths: waypoint files, and the *.txt files of folders, by name.
+
+    defaults gives what a course's YAML leaves out (its name and waypoints are ignored).
+    Raises CourseError for a path that is neither, a folder without courses, two courses of
+    one name, or a bad waypoint file or YAML.
+    """
+    files = []
+    for path in map(Path, paths):
+        if path.is_dir():
+            found = sorted(child for child in path.iterdir()
+                           if child.suffix == COURSE_SUFFIX and child.is_file())
+            if not found:
+                raise CourseError(f'{path}: a folder with no course (no *{COURSE_SUFFIX} '
+                                  'waypoint file)')
+            files += found
+        elif path.is_file():
+            files.append(path)
+        else:
+            raise CourseError(f'{path}: no such course file or folder')
+        if len(files) > MAX_COURSES:
+            raise CourseError(f'{path}: more than {MAX_COURSES} courses')
+    courses = [load_course(file, defaults) for file in files]
+    names = [course.name for course in courses]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise CourseError(f'two courses named {twice[0]}: rename one (course names come from '
+                          'the waypoint files)')
+    return courses
+
+
+def load_course(path: str | os.PathLike, defaults: Course | None = None) -> Course:
+    """Read one course: its waypoint file, and the YAML of the same name if there is one."""
+    path = Path(path)
+    try:
+        waypoints = tuple(load_waypoints(path))
+    except WaypointFileError as error:
+        raise CourseError(str(error)) from None
+    base = defaults or Course('', path, ())
+    course = replace(base, name=path.stem, waypoint_file=path, waypoints=waypoints,
+                     settings_file=None)
+    settings = next((path.with_suffix(suffix) for suffix in YAML_SUFFIXES
+                     if path.with_suffix(suffix).is_file()), None)
+    return course if settings is None else _with_settings(course, settings)
+
+
+def _number(source, key, value, bounds):
+    problem = bounds.problem(key, value)
+    if problem:
+        raise CourseError(f'{source}: {problem}')
+    return float(value)
+
+
+def _start(source, value):
+    if not (isinstance(value, list) and len(value) == 3):
+        raise CourseError(f'{source}: start must be [x, y, theta] (m, m, degrees), got '
+                          f'{describe(value)}')
+    x, y, theta = (_number(source, f'start {name}', item, bounds) for name, item, bounds in
+                   zip(('x', 'y', 'theta (degrees)'), value,
+                       (POSITION, POSITION, HEADING_DEGREES)))
+    return x, y, math.radians(theta)
+
+
+def _world_file(source, key, value, folder):
+    """Find a map or robot file: beside the YAML, or a bundled one by name (lab_room)."""
+    if not isinstance(value, str) or not value:
+        raise CourseError(f'{source}: {key} must be a file name, got {describe(value)}')
+    beside = folder / value
+    if beside.is_file():
+        return str(beside)
+    bundled = bundled_files('maps' if key == 'map' else 'robots')
+    name = value if value in bundled else Path(value).stem
+    if name in bundled and not Path(value).parent.name:
+        return bundled[name]
+    known = ', '.join(sorted(bundled)) or 'none installed'
+    raise CourseError(f'{source}: {key} {value!r} is neither a file beside it nor a bundled '
+                      f'one ({known})')
+
+
+def _with_settings(course, path):
+    """Apply a course's YAML to it; CourseError names the file and the field at fault."""
+    settings = read_yaml(path, 'course settings', CourseError)
+    source = str(path)
+    if settings is None:
+        return replace(course, settings_file=path)
+    if not isinstance(settings, dict):
+        raise CourseError(f'{source}: course settings must be a mapping of fields, got '
+                          f'{describe(settings)}')
+    changes = {'settings_file': path}
+    for key, value in settings.items():
+        if key not in _FIELDS:
+            close = difflib.get_close_matches(str(key), _FIELDS, n=1)
+            hint = f'; did you mean {close[0]}?' if close else f' (known: {", ".join(_FIELDS)})'
+            raise CourseError(f'{source}: unknown field {describe(key)}{hint}')
+        changes.update(_FIELDS[key](source, value, path.parent))
+    return replace(course, **changes)
+
+
+_FIELDS = {
+    'start': lambda source, value, _: {'start': _start(source, value)},
+    'map': lambda source, value, folder: {'map_file': _world_file(source, 'map', value,
+                                                                  folder)},
+    'robot': lambda source, value, folder: {'robot_file': _world_file(source, 'robot', value,
+                                                                      folder)},
+    'time_limit': lambda source, value, _: {'time_limit': _number(source, 'time_limit', value,
+                                                                  TIME_LIMIT)},
+    'points': lambda source, value, _: {'points': _number(source, 'points', value, POINTS)},
+    'distance_tolerance': lambda source, value, _: {'distance_tolerance': _number(
+        source, 'distance_tolerance', value, DISTANCE_TOLERANCE)},
+    'angle_tolerance_deg': lambda source, value, _: {'angle_tolerance': math.radians(_number(
+        source, 'angle_tolerance_deg', value, ANGLE_TOLERANCE_DEGREES))},
+    'max_time': lambda source, value, _: {'max_time': _number(source, 'max_time', value,
+                                                              GRADED_LIMIT)},
+    'max_path_length': lambda source, value, _: {'max_path_length': _number(
+        source, 'max_path_length', value, GRADED_LIMIT)},
+}

@@ -1,0 +1,226 @@
+"""
+grade_lab: the lab's tick-off sheet, automated: grade a controller on hidden courses.
+
+    grade_lab --courses DIR_OR_FILES [--jobs N] [--report DIR] [--lockstep]
+              -- python3 my_controller.py {waypoints}
+
+Every course runs in isolation (course_run.py) and is judged from its bag (verdicts.py); the
+table goes to the terminal and, with --report, the reports to a folder. With --submissions,
+each folder in it is a group's submission, graded by the same command run in that folder.
+Exit code 0 when every course of every submission passes, 1 otherwise, 2 for bad input.
+"""
+
+from concurrent.futures import as_completed, ThreadPoolExecutor
+import math
+import os
+from pathlib import Path
+import shutil
+import signal
+import sys
+import tempfile
+import threading
+
+from lab_grader.course_run import PLACEHOLDER, run_course, RunSettings
+from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, Course, CourseError,
+                                DISTANCE_TOLERANCE, find_courses, TIME_LIMIT)
+from lab_grader.grading import grade_course, PASS, SubmissionVerdict
+from lab_grader.report_page import draw_course, markdown_report
+from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
+                                RULES, terminal_table)
+from lab_grader.supervision import become_subreaper
+from lab_grader.verdicts import ProcessOutcome
+from simple_robot_control.command_line import OneLineParser
+from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK
+from simple_robot_control.share import shared_file
+from simple_robot_control.validation import Bounds, compact, is_ros_name
+
+JOBS = Bounds(1, 32)
+REAL_TIME_FACTOR = Bounds(0.0, 100.0)
+DESCRIPTION = ('Grade a lab controller on courses it has not seen, as the tick-off sheet '
+               'would: each course runs in a ROS domain of its own (stdr_lite, a recorder and '
+               "the submission), and is judged from its bag against the simulator's ground "
+               f'truth: STARTED, each WAYPOINT in order and honest ({RULES}), FINISHED with '
+               'the robot stopped, no wall contact, and a program that ends when asked. Give '
+               f"the submission's command after --, with {PLACEHOLDER} where the course's "
+               'waypoint file goes.')
+
+
+def build_parser():
+    parser = OneLineParser(prog='grade_lab', description=DESCRIPTION, usage=(
+        'grade_lab --courses DIR_OR_FILES [--submissions DIR] [--jobs N] [--report DIR] '
+        f'[--lockstep] ... -- COMMAND ... {PLACEHOLDER} ...'))
+    parser.add_argument('--courses', nargs='+', required=True, metavar='DIR_OR_FILE',
+                        help='waypoint files, or folders of them (*.txt), each with an '
+                        'optional YAML of the same name (start, map, robot, time_limit, '
+                        'points, tolerances, max_time, max_path_length; doc/grading.md)')
+    parser.add_argument('--submissions', metavar='DIR', help='a folder holding one folder '
+                        "per submission (a group's): the command runs in each")
+    parser.add_argument('--jobs', type=int, default=1, help=f'courses run at once '
+                        f'(default 1; {JOBS.text()})')
+    parser.add_argument('--report', metavar='DIR', help='write the reports there: report.md '
+                        "with a picture per course, junit.xml, Gradescope's results.json, "
+                        "GitHub Classroom's classroom.json, and each run's bag and output")
+    parser.add_argument('--lockstep', action='store_true', help='run the simulator in '
+                        'lockstep, for controllers that answer every odometry with one cmd_vel')
+    parser.add_argument('--real-time-factor', type=float, default=1.0, help='sim seconds per '
+                        'wall second (default 1: student code runs on wall time; 0, as fast as '
+                        'it goes, needs --lockstep)')
+    parser.add_argument('--time-limit', type=float, default=120.0, help='wall seconds a '
+                        "course may take (default 120; a course's YAML may set its own)")
+    parser.add_argument('--distance-tolerance', type=float, default=0.1,
+                        help="goal set radius d [m] (default 0.1, the lab's)")
+    parser.add_argument('--angle-tolerance', type=float, default=5.0,
+                        help="goal set heading tolerance t [degrees] (default 5, the lab's)")
+    parser.add_argument('--robot-name', default='robot0', help='the robot (default robot0)')
+    return parser
+
+
+def parse(argv):
+    """Return (options, command); exit 2 with one line for bad input."""
+    parser = build_parser()
+    split = argv.index('--') if '--' in argv else len(argv)
+    options = parser.parse_args(argv[:split])
+    if split == len(argv):
+        parser.error(f"give the submission's command after --, with {PLACEHOLDER} where the "
+                     'waypoint file goes')
+    command = argv[split + 1:]
+    problems = [
+        not command and 'no command after --',
+        command and not any(PLACEHOLDER in part for part in command)
+        and f'the command has no {PLACEHOLDER}: where does the waypoint file go?',
+        JOBS.problem('--jobs', options.jobs),
+        REAL_TIME_FACTOR.problem('--real-time-factor', options.real_time_factor),
+        options.real_time_factor == 0.0 and not options.lockstep
+        and '--real-time-factor 0 needs --lockstep (the simulator would outrun the controller)',
+        TIME_LIMIT.problem('--time-limit', options.time_limit),
+        DISTANCE_TOLERANCE.problem('--distance-tolerance', options.distance_tolerance),
+        ANGLE_TOLERANCE_DEGREES.problem('--angle-tolerance', options.angle_tolerance),
+        not is_ros_name(options.robot_name) and f'--robot-name {options.robot_name!r} is no '
+        'ROS name',
+        options.report and Path(options.report).exists() and not Path(options.report).is_dir()
+        and f'--report {options.report}: not a folder',
+    ]
+    problem = next((problem for problem in problems if problem), None)
+    if problem:
+        parser.error(problem)
+    return options, command
+
+
+def command_problem(command, submissions):
+    """Say why the command cannot start in some submission's folder, or return ''."""
+    program = command[0]
+    if '/' not in program:
+        found = shutil.which(program)
+        return '' if found else f'cannot run {program!r}: no such program on PATH'
+    for _, folder in submissions:
+        path = folder / program
+        if not (path.is_file() and os.access(path, os.X_OK)):
+            return f'cannot run {program!r} in {folder}: no such executable file'
+    return ''
+
+
+def submissions_of(options):
+    """Return (name, folder) of each submission: the folders of --submissions, or this one."""
+    if not options.submissions:
+        return [(Path.cwd().name or 'submission', Path.cwd())]
+    folder = Path(options.submissions)
+    if not folder.is_dir():
+        raise CourseError(f'--submissions {folder}: not a folder')
+    found = sorted(child for child in folder.iterdir()
+                   if child.is_dir() and not child.name.startswith('.'))
+    if not found:
+        raise CourseError(f'--submissions {folder}: no submission folder in it')
+    return [(child.name, child.resolve()) for child in found]
+
+
+class Grading:
+    """Runs every course of every submission, --jobs at a time, until done or interrupted."""
+
+    def __init__(self, options, command, courses, submissions, folder):
+        self.options, self.command = options, command
+        self.courses, self.submissions, self.folder = courses, submissions, folder
+        self.stopping = threading.Event()
+
+    def run(self):
+        """Return a SubmissionVerdict per submission, its courses in course order."""
+        verdicts = {name: {} for name, _ in self.submissions}
+        jobs = [(name, cwd, course) for name, cwd in self.submissions for course in self.courses]
+        with ThreadPoolExecutor(max_workers=self.options.jobs) as pool:
+            running = {pool.submit(self._grade, *job): job for job in jobs}
+            for done in as_completed(running):
+                name, _, course = running[done]
+                verdict = done.result()
+                verdicts[name][course.name] = verdict
+                who = f'{name} / ' if len(self.submissions) > 1 else ''
+                print(f'{who}{course.name}: {MARKS[verdict.status]}', flush=True)
+        return [SubmissionVerdict(name, [verdicts[name][course.name] for course in self.courses])
+                for name, _ in self.submissions]
+
+    def _grade(self, name, cwd, course):
+        settings = RunSettings(tuple(self.command), str(cwd), self.options.lockstep,
+                               self.options.real_time_factor, self.options.robot_name)
+        folder = self.folder / (name if len(self.submissions) > 1 else '') / course.name
+        if self.stopping.is_set():
+            return grade_course(course, ProcessOutcome(start_error='not run'),
+                                folder / 'run.mcap', 'grading was interrupted')
+        result = run_course(course, settings, folder, self.stopping)
+        verdict = grade_course(course, result.outcome, result.bag, result.error,
+                               self.options.robot_name)
+        if self.options.report:
+            verdict.picture_problem = draw_course(verdict, self.options.robot_name)
+        return verdict
+
+
+def write_reports(options, command, submissions, folder):
+    """Write report.md and junit.xml, and each submission's Gradescope and Classroom files."""
+    mode = (f'{"lockstep" if options.lockstep else "free-running"} at real-time factor '
+            f'{compact(options.real_time_factor)}, {options.jobs} at a time')
+    (folder / 'report.md').write_text(markdown_report(submissions, command, mode, folder))
+    (folder / 'junit.xml').write_bytes(junit_xml(submissions))
+    for submission in submissions:
+        place = folder / submission.name if len(submissions) > 1 else folder
+        (place / 'results.json').write_text(gradescope_results(submission))
+        (place / 'classroom.json').write_text(classroom_result(submission, command))
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    options, command = parse(argv)
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    os.environ['ROS_STATIC_PEERS'] = ''
+    os.environ.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE',
+                          shared_file('config', 'fastdds_quick_discovery.xml'))
+    defaults = Course('', Path(), (), time_limit=options.time_limit,
+                      distance_tolerance=options.distance_tolerance,
+                      angle_tolerance=math.radians(options.angle_tolerance))
+    try:
+        courses = find_courses(options.courses, defaults)
+        submissions = submissions_of(options)
+        problem = command_problem(command, submissions)
+        if problem:
+            raise CourseError(problem)
+        folder = Path(options.report) if options.report else None
+        if folder is not None:
+            folder.mkdir(parents=True, exist_ok=True)
+    except (CourseError, OSError) as error:
+        print(f'grade_lab: error: {error}', file=sys.stderr)
+        return EXIT_BAD_INPUT
+    become_subreaper()
+    with tempfile.TemporaryDirectory(prefix='grade_lab-') as scratch:
+        grading = Grading(options, command, courses, submissions, folder or Path(scratch))
+        for number in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(number, lambda *_: grading.stopping.set())
+        print(f'grade_lab: {len(courses)} course(s) x {len(submissions)} submission(s), '
+              f'{options.jobs} at a time: {" ".join(command)}', flush=True)
+        verdicts = grading.run()
+        print(terminal_table(verdicts))
+        if folder is not None:
+            write_reports(options, command, verdicts, folder)
+            print(f'reports in {folder}: report.md, junit.xml, results.json, classroom.json')
+    if grading.stopping.is_set():
+        print('grade_lab: interrupted: courses not run are errors', file=sys.stderr)
+    return EXIT_OK if all(verdict.status == PASS for verdict in verdicts) else EXIT_FAILED
+
+
+if __name__ == '__main__':
+    sys.exit(main())

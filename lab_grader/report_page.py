@@ -1,0 +1,85 @@
+"""
+The grading's report for people: a Markdown page with a picture of every course run.
+
+Each picture is plot_run's: the map, the robot's true path coloured by time (from the
+simulator's ground truth, not the submission's odometry), each waypoint's goal set and the
+poses the submission reported in its WAYPOINT messages, drawn against that path. No ROS here.
+"""
+
+from datetime import datetime
+from pathlib import Path
+
+from lab_grader.evidence import read_evidence
+from lab_grader.reports import figures, MARKS, RULES, terminal_table
+from simple_robot_control.bag_reading import BagReadError
+from simple_robot_control.occupancy_map import load_map, MapError
+from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
+from stdr_lite.core.robot_description import load_robot, RobotFileError
+from waypoint_controller.plot_run import render_run
+from waypoint_controller.run_record import RunRecord
+
+LAB_ROBOT_RADIUS = 0.2
+
+
+def draw_course(verdict, robot_name='robot0') -> str:
+    """Draw a course's run as run.png beside its bag; return why not, or ''."""
+    course, folder = verdict.course, verdict.folder
+    try:
+        evidence = read_evidence(folder / 'run.mcap', robot_name)
+        if not len(evidence.times):
+            return 'no true path was recorded'
+        radius = (load_robot(course.robot_file, (shared_file(*BUNDLED_RESOURCES),)).radius
+                  if course.robot_file else LAB_ROBOT_RADIUS)
+        record = RunRecord(course.name, list(course.waypoints), course.distance_tolerance,
+                           course.angle_tolerance, evidence.times.tolist(),
+                           [tuple(pose) for pose in evidence.poses.tolist()],
+                           [(report.time, report.text) for report in evidence.reports
+                            if report.status is not None])
+        occupancy_map = load_map(course.map_file or shared_file(*BUNDLED_MAP))
+        render_run(record, occupancy_map, radius, folder / 'run.png',
+                   f'{course.name}: {MARKS[verdict.status]}, the true path and the poses '
+                   'reported')
+    except (BagReadError, MapError, RobotFileError, OSError, ValueError) as error:
+        return f'no picture: {error}'
+    return ''
+
+
+def markdown_report(submissions, command, settings_line, report_folder: Path) -> str:
+    """Return the report page: the table, the rules, then every course's checks and picture."""
+    lines = ['# Tick-off sheet', '',
+             f'Graded {datetime.now().astimezone():%Y-%m-%d %H:%M %Z} by `grade_lab`: '
+             f'`{" ".join(command)}`, {settings_line}.', '',
+             f"Rules: {RULES}. Each course runs in a ROS domain of its own; the robot's true "
+             'path comes from the simulator, not from the submission.', '',
+             '```', terminal_table(submissions), '```', '']
+    for submission in submissions:
+        if len(submissions) > 1:
+            lines += [f'## {submission.name}', '']
+        for verdict in submission.courses:
+            lines += _course_section(verdict, report_folder, len(submissions) > 1)
+    return '\n'.join(lines)
+
+
+def _course_section(verdict, report_folder, nested):
+    heading = '###' if nested else '##'
+    lines = [f'{heading} {verdict.course.name}: {MARKS[verdict.status]}', '']
+    if verdict.folder is not None and (verdict.folder / 'run.png').is_file():
+        picture = (verdict.folder / 'run.png').relative_to(report_folder)
+        lines += [f'![{verdict.course.name}]({picture.as_posix()})', '']
+    elif verdict.picture_problem:
+        lines += [f'({verdict.picture_problem})', '']
+    lines += ['| check | result | evidence |', '|---|---|---|']
+    if verdict.error:
+        lines.append(f'| run | ERROR | {_cell(verdict.error)} |')
+    lines += [f'| {check.name} | {"PASS" if check.passed else "FAIL"} | {_cell(check.evidence)} |'
+              for check in verdict.checks]
+    outcome = verdict.outcome
+    lines += ['', f'Time and path: {figures(verdict)}; the program ran {outcome.seconds:.1f} s, '
+              f'ended {outcome.ended_by}, exit code {outcome.exit_code}.', '']
+    if verdict.failures and outcome.last_lines:
+        lines += ['Its last lines:', '', '```', *outcome.last_lines[-20:], '```', '']
+    return lines
+
+
+def _cell(text):
+    return text.replace('|', '\\|').replace('\n', ' ')

@@ -1,0 +1,268 @@
+"""
+The tick-off sheet's rules: each check of a course, judged from the run's evidence. No ROS here.
+
+A status message is judged against the robot's true path around the time it was sent (see
+evidence.py): from LATENCY before (the controller's reaction: the odometry it acts on is older
+than the message) to SLACK after (a step's truth and odometry go out one after the other). A
+report passes when in that window the robot stood in the waypoint's goal set, at the pose it
+reported (within POSITION_MATCH and HEADING_MATCH: the lab prints poses to a few millimetres).
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+from waypoint_controller.status import FINISHED, STARTED, WAYPOINT
+
+LATENCY = 0.5
+SLACK = 0.05
+POSITION_MATCH = 0.02
+HEADING_MATCH = math.radians(1.0)
+# After FINISHED the robot must stand still (from SETTLE after it to the end of the run).
+SETTLE = 0.5
+STILL_DISTANCE = 0.01
+STILL_HEADING = math.radians(1.0)
+LAST_LINES = 12
+
+
+@dataclass(frozen=True)
+class Check:
+    """One line of the tick-off sheet: what was checked, whether it passed, and why."""
+
+    name: str
+    passed: bool
+    evidence: str
+
+
+@dataclass(frozen=True)
+class ProcessOutcome:
+    """How the submission's process ran and ended."""
+
+    start_error: str = ''
+    ended_by: str = 'itself'
+    exit_code: int | None = 0
+    seconds: float = 0.0
+    stop_seconds: float = 0.0
+    timed_out: bool = False
+    last_lines: tuple[str, ...] = ()
+    leftovers: tuple[str, ...] = ()
+
+
+def _degrees(angle):
+    return f'{math.degrees(angle):.1f}°'
+
+
+def _pose_text(pose):
+    x, y, theta = pose
+    return f'({x:.3f}, {y:.3f}, {_degrees(theta)})'
+
+
+def _errors(poses, x, y, theta):
+    """Return each pose's distance from (x, y) and its heading's from theta (wrapped)."""
+    distance = np.hypot(poses[:, 0] - x, poses[:, 1] - y)
+    heading = np.abs(np.remainder(poses[:, 2] - theta + math.pi, math.tau) - math.pi)
+    return distance, heading
+
+
+def _goal_errors(poses, waypoint):
+    return _errors(poses, waypoint.x, waypoint.y, waypoint.theta)
+
+
+def _match(evidence, indices, reported):
+    """Return (index, position error, heading error) of the true pose nearest to reported."""
+    distance, heading = _errors(evidence.poses[indices], *reported)
+    best = int(np.argmin(np.maximum(distance / POSITION_MATCH, heading / HEADING_MATCH)))
+    return indices[best], float(distance[best]), float(heading[best])
+
+
+def _honest(distance, heading):
+    return distance <= POSITION_MATCH and heading <= HEADING_MATCH
+
+
+class Judge:
+    """Judges one course's run: judge.checks() gives every line of its tick-off sheet."""
+
+    def __init__(self, course, evidence, outcome):
+        self.course, self.evidence, self.outcome = course, evidence, outcome
+        self.lab = [report for report in evidence.reports if report.status is not None]
+        self.finished = next((report for report in self.lab
+                              if report.status.kind == FINISHED), None)
+
+    def checks(self) -> list[Check]:
+        checks = [self._started()]
+        checks += [self._waypoint(number) for number in range(1, len(self.course.waypoints) + 1)]
+        checks += [self._finished(), self._contact()]
+        if self.course.max_time is not None:
+            checks.append(self._limit('time', self.time_taken, self.course.max_time, 's'))
+        if self.course.max_path_length is not None:
+            checks.append(self._limit('path length', self.path_length,
+                                      self.course.max_path_length, 'm'))
+        return checks + [self._ending()]
+
+    @property
+    def time_taken(self) -> float | None:
+        """Sim seconds from STARTED to FINISHED, or None without both."""
+        started = next((r for r in self.lab if r.status.kind == STARTED), None)
+        if started is None or self.finished is None:
+            return None
+        return self.finished.time - started.time
+
+    @property
+    def path_length(self) -> float | None:
+        """Metres driven from STARTED to FINISHED, or None without both."""
+        if self.time_taken is None:
+            return None
+        return self.evidence.path_length(self.finished.time - self.time_taken,
+                                         self.finished.time)
+
+    def _window(self, report):
+        return self.evidence.during(report.time - LATENCY, report.time + SLACK)
+
+    def _why_missing(self):
+        """Say why the run ended without a message, when the process tells."""
+        outcome = self.outcome
+        if outcome.start_error:
+            return f': {outcome.start_error}'
+        if outcome.timed_out:
+            return f' within the time limit of {self.course.time_limit:g} s'
+        if outcome.ended_by == 'itself':
+            return f' (the program ended after {outcome.seconds:.1f} s, exit code ' \
+                   f'{outcome.exit_code})'
+        return ''
+
+    def _started(self):
+        if not self.evidence.reports:
+            return Check(STARTED, False, f'no message on robot_status{self._why_missing()}')
+        first = self.evidence.reports[0]
+        if first.status is None or first.status.kind != STARTED:
+            return Check(STARTED, False, f'the first message was {first.text[:60]!r}, not '
+                         'STARTED <x> <y> <theta>')
+        count = sum(report.status.kind == STARTED for report in self.lab)
+        if count > 1:
+            return Check(STARTED, False, f'sent {count} times')
+        window = self._window(first)
+        if not len(window):
+            return Check(STARTED, False, 'no true pose recorded around it')
+        index, distance, heading = _match(self.evidence, window, first.status.pose)
+        true_pose = _pose_text(self.evidence.poses[index])
+        if not _honest(distance, heading):
+            return Check(STARTED, False, f'reported {_pose_text(first.status.pose)}, but the '
+                         f'robot was at {true_pose}: {distance * 100:.1f} cm and '
+                         f'{_degrees(heading)} off (at most {POSITION_MATCH * 100:g} cm and '
+                         f'{_degrees(HEADING_MATCH)})')
+        return Check(STARTED, True, f'first, at t = {first.time:.2f} s, with the true start '
+                     f'pose {true_pose}')
+
+    def _waypoint(self, number):
+        name = f'{WAYPOINT} {number}'
+        sent = [(position, report) for position, report in enumerate(self.lab)
+                if report.status.kind == WAYPOINT and report.status.number == number]
+        if not sent:
+            return Check(name, False, 'never sent')
+        if len(sent) > 1:
+            return Check(name, False, f'sent {len(sent)} times')
+        position, report = sent[0]
+        before = self.lab[position - 1].status if position else None
+        expected = (STARTED, None) if number == 1 else (WAYPOINT, number - 1)
+        if before is None or (before.kind, before.number) != expected:
+            said = 'first' if before is None else f'after {before.kind} {before.number or ""}'
+            return Check(name, False, f'out of order: sent {said.strip()}, not after '
+                         f'{" ".join(str(part) for part in expected if part)}')
+        waypoint = self.course.waypoints[number - 1]
+        window = self._window(report)
+        if not len(window):
+            return Check(name, False, 'no true pose recorded around it')
+        distance, heading = _goal_errors(self.evidence.poses[window], waypoint)
+        inside = window[(distance <= self.course.distance_tolerance)
+                        & (heading <= self.course.angle_tolerance)]
+        if not len(inside):
+            nearest = int(np.argmin(np.maximum(distance / self.course.distance_tolerance,
+                                               heading / self.course.angle_tolerance)))
+            return Check(name, False, f'sent at t = {report.time:.2f} s while the robot was '
+                         f'{distance[nearest]:.3f} m and {_degrees(heading[nearest])} from '
+                         f'waypoint {number} (goal set: {self.course.distance_tolerance:g} m '
+                         f'and {_degrees(self.course.angle_tolerance)})')
+        index, error, turn = _match(self.evidence, inside, report.status.pose)
+        if not _honest(error, turn):
+            return Check(name, False, f'reported {_pose_text(report.status.pose)}, but the '
+                         f'robot was at {_pose_text(self.evidence.poses[index])}: '
+                         f'{error * 100:.1f} cm and {_degrees(turn)} off (at most '
+                         f'{POSITION_MATCH * 100:g} cm and {_degrees(HEADING_MATCH)})')
+        off, off_heading = (values[0] for values in _goal_errors(
+            self.evidence.poses[[index]], waypoint))
+        return Check(name, True, f'sent at t = {report.time:.2f} s in the goal set '
+                     f'({off:.3f} m, {_degrees(off_heading)} from the waypoint), reporting the '
+                     f'true pose within {error * 100:.1f} cm and {_degrees(turn)}')
+
+    def _finished(self):
+        if self.finished is None:
+            return Check(FINISHED, False, f'never sent{self._why_missing()}')
+        position = self.lab.index(self.finished)
+        last = f'{WAYPOINT} {len(self.course.waypoints)}'
+        before = self.lab[position - 1].status if position else None
+        if before is None or (before.kind, before.number) != (WAYPOINT,
+                                                              len(self.course.waypoints)):
+            return Check(FINISHED, False, f'sent before {last}')
+        after = self.evidence.reports[self.evidence.reports.index(self.finished) + 1:]
+        if after:
+            return Check(FINISHED, False, f'{len(after)} message(s) after it, the first '
+                         f'{after[0].text[:60]!r}')
+        still = self.evidence.during(self.finished.time + SETTLE, math.inf)
+        if len(still) < 2:
+            return Check(FINISHED, True, f'after {last}, and nothing after it; the simulation '
+                         'did not step on after it (lockstep waits for the controller)')
+        poses = self.evidence.poses[still]
+        moved, turned = (float(np.max(errors)) for errors in _errors(poses, *poses[0]))
+        held = f'{self.evidence.times[still[-1]] - self.evidence.times[still[0]]:.1f} s'
+        if moved > STILL_DISTANCE or turned > STILL_HEADING:
+            return Check(FINISHED, False, f'the robot did not stop: it moved {moved:.3f} m and '
+                         f'turned {_degrees(turned)} in the {held} after it (send a zero '
+                         'cmd_vel: the simulator holds the last command, as STDR does)')
+        return Check(FINISHED, True, f'after {last}, and nothing after it; the robot then '
+                     f'stood still for {held}')
+
+    def _contact(self):
+        name = 'no wall contact'
+        evidence = self.evidence
+        if not evidence.stalled_steps:
+            span = evidence.times[-1] - evidence.times[0] if len(evidence.times) > 1 else 0.0
+            return Check(name, True, f'never pushed against a wall in {span:.1f} s')
+        where = evidence.pose_at(evidence.first_stall)
+        return Check(name, False, f'pushed against a wall for {evidence.stalled_seconds:.2f} s '
+                     f'({evidence.stalled_steps} steps), first at t = '
+                     f'{evidence.first_stall:.2f} s at {_pose_text(where)}')
+
+    def _limit(self, name, value, limit, unit):
+        if value is None:
+            return Check(name, False, 'not measured: the course was not finished')
+        verdict = 'within' if value <= limit else 'over'
+        return Check(name, value <= limit, f'{value:.2f} {unit}, {verdict} the limit of '
+                     f'{limit:g} {unit}')
+
+    def _ending(self):
+        name = 'ends when asked'
+        outcome = self.outcome
+        if outcome.start_error:
+            return Check(name, False, outcome.start_error)
+        lines = ''.join(f'\n    {line}' for line in outcome.last_lines[-LAST_LINES:])
+        if outcome.leftovers:
+            return Check(name, False, f'left {len(outcome.leftovers)} process(es) running '
+                         f'after it ended, killed: {"; ".join(outcome.leftovers)[:200]}')
+        if outcome.ended_by == 'itself':
+            if outcome.exit_code == 0:
+                return Check(name, True, f'exited by itself with exit code 0 after '
+                             f'{outcome.seconds:.1f} s')
+            return Check(name, False, f'crashed after {outcome.seconds:.1f} s: '
+                         f'{_exit_text(outcome.exit_code)}; its last lines:{lines}')
+        if outcome.ended_by == 'SIGINT':
+            return Check(name, True, f'still running when the course was over; ended on '
+                         f'Ctrl-C (SIGINT) in {outcome.stop_seconds:.1f} s')
+        return Check(name, False, f'ignored Ctrl-C (SIGINT) for {outcome.stop_seconds:.0f} s: '
+                     f'ended only by {outcome.ended_by} (a ROS node must end on SIGINT: '
+                     'ros2 launch and Ctrl-C stop it so)')
+
+
+def _exit_text(code):
+    if code is not None and code < 0:
+        return f'killed by signal {-code}'
+    return f'exit code {code}'

@@ -1,0 +1,43 @@
+"""grade_lab run as a user would, and nothing it started left running afterwards."""
+
+import os
+import uuid
+
+from processes import run
+import psutil
+
+TAG = 'GRADE_LAB_TEST_TAG'
+
+
+def tagged_processes(tag):
+    found = []
+    for process in psutil.process_iter():
+        try:
+            if process.environ().get(TAG) == tag and process.status() != psutil.STATUS_ZOMBIE:
+                found.append(process)
+        except psutil.Error:
+            continue
+    return found
+
+
+def grade(*arguments, timeout=600, cwd=None):
+    """Run grade_lab with a tag its processes inherit; fail if any of them outlives it."""
+    tag = uuid.uuid4().hex
+    os.environ[TAG] = tag
+    try:
+        result = run('grade_lab', *map(str, arguments), timeout=timeout, cwd=cwd)
+    finally:
+        del os.environ[TAG]
+    left = tagged_processes(tag)
+    for process in left:
+        process.kill()
+    assert not left, f'processes left behind: {left}\n{result.stdout}\n{result.stderr}'
+    return result
+
+
+def write_course(folder, name, waypoints, **settings):
+    folder.mkdir(exist_ok=True)
+    (folder / f'{name}.txt').write_text(waypoints + '\n')
+    if settings:
+        (folder / f'{name}.yaml').write_text(''.join(f'{key}: {value}\n'
+                                                     for key, value in settings.items()))

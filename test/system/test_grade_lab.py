@@ -1,0 +1,135 @@
+"""
+grade_lab end to end: our controller passes, dishonest and broken submissions fail as they should.
+
+Submissions written for the tests (test/controllers/student.py) never drive: on a course whose
+waypoint is the start pose an honest report is right, on one whose waypoint lies ahead only a
+controller that drives there can be. Every run is checked to leave no process behind.
+"""
+
+import json
+from pathlib import Path
+import sys
+from xml.etree import ElementTree
+
+from grade_runs import grade, write_course
+import pytest
+
+STUDENT = Path(__file__).resolve().parents[1] / 'controllers' / 'student.py'
+BEHAVIOURS = ('honest', 'early', 'off10', 'silent', 'crash', 'hang', 'ignore_sigint', 'fork')
+
+
+@pytest.fixture(scope='module')
+def batch(tmp_path_factory):
+    """Grade every test submission on two courses at once; give (result, report folder)."""
+    root = tmp_path_factory.mktemp('batch')
+    courses = root / 'courses'
+    write_course(courses, 'here', '1.0 2.0 0.0', time_limit=8)
+    write_course(courses, 'ahead', '2.0 2.0 0.0', time_limit=8, points=2)
+    groups = root / 'groups'
+    for behaviour in BEHAVIOURS:
+        (groups / behaviour).mkdir(parents=True)
+        (groups / behaviour / 'behaviour').write_text(behaviour)
+    report = root / 'report'
+    result = grade('--courses', courses, '--submissions', groups, '--jobs', 4, '--report',
+                   report, '--', sys.executable, STUDENT, '@', '{waypoints}', cwd=root,
+                   timeout=900)
+    return result, report
+
+
+def verdicts(report, group, course):
+    """Return {check name: (passed, evidence)} of a group's course, from its JUnit suite."""
+    suites = ElementTree.parse(report / 'junit.xml').getroot()
+    suite = next(suite for suite in suites if suite.get('name') == f'{group}.{course}')
+    checks = {}
+    for case in suite.iter('testcase'):
+        problem = case.find('failure')
+        problem = case.find('error') if problem is None else problem
+        checks[case.get('name')] = (problem is None, '' if problem is None
+                                    else problem.get('message'))
+    return checks
+
+
+def test_each_submission_gets_its_verdict_and_leaves_nothing_running(batch):
+    result, report = batch
+    assert result.returncode == 1, result.stdout + result.stderr
+    expected_failures = {
+        ('honest', 'here'): set(),
+        ('honest', 'ahead'): {'WAYPOINT 1'},
+        ('early', 'here'): set(),
+        ('early', 'ahead'): {'WAYPOINT 1'},
+        ('off10', 'here'): {'WAYPOINT 1'},
+        ('silent', 'here'): {'STARTED', 'WAYPOINT 1', 'FINISHED'},
+        ('crash', 'here'): {'STARTED', 'WAYPOINT 1', 'FINISHED', 'ends when asked'},
+        ('hang', 'here'): {'WAYPOINT 1', 'FINISHED'},
+        ('ignore_sigint', 'here'): {'ends when asked'},
+        ('fork', 'here'): {'ends when asked'},
+    }
+    for (group, course), failing in expected_failures.items():
+        checks = verdicts(report, group, course)
+        assert set(checks) == {'STARTED', 'WAYPOINT 1', 'FINISHED', 'no wall contact',
+                               'ends when asked'}
+        assert {name for name, (passed, _) in checks.items() if not passed} == failing, (
+            group, course, checks)
+    assert 'while the robot was 1.000 m and 0.0° from waypoint 1' in verdicts(
+        report, 'early', 'ahead')['WAYPOINT 1'][1]
+    assert '10.0 cm and 0.0° off' in verdicts(report, 'off10', 'here')['WAYPOINT 1'][1]
+    assert 'no message on robot_status within the time limit of 8 s' in verdicts(
+        report, 'silent', 'here')['STARTED'][1]
+    crashed = verdicts(report, 'crash', 'here')['ends when asked'][1]
+    assert 'crashed' in crashed and 'this submission crashes on purpose' in crashed
+    assert 'within the time limit of 8 s' in verdicts(report, 'hang', 'here')['FINISHED'][1]
+    ignoring = verdicts(report, 'ignore_sigint', 'here')['ends when asked'][1]
+    assert 'ignored Ctrl-C (SIGINT)' in ignoring
+    assert 'left 1 process(es) running after it ended' in verdicts(
+        report, 'fork', 'here')['ends when asked'][1]
+    table = result.stdout
+    assert 'submission' in table and 'honest' in table and 'points' in table
+
+
+def test_the_graders_files_hold_the_fields_courses_collect(batch):
+    _, report = batch
+    for behaviour in BEHAVIOURS:
+        gradescope = json.loads((report / behaviour / 'results.json').read_text())
+        assert isinstance(gradescope['score'], (int, float))
+        assert [test['name'] for test in gradescope['tests']] == ['ahead', 'here']
+        for test in gradescope['tests']:
+            assert set(test) >= {'name', 'score', 'max_score', 'status', 'output', 'visibility'}
+            assert test['status'] in ('passed', 'failed') and isinstance(test['output'], str)
+        assert gradescope['score'] == sum(test['score'] for test in gradescope['tests'])
+        classroom = json.loads((report / behaviour / 'classroom.json').read_text())
+        assert classroom['version'] == 1 and classroom['status'] in ('pass', 'fail', 'error')
+        assert classroom['max_score'] == 3
+        for test in classroom['tests']:
+            assert set(test) >= {'name', 'status', 'score', 'message'}
+            assert test['status'] in ('pass', 'fail', 'error')
+    honest = json.loads((report / 'honest' / 'results.json').read_text())
+    assert honest['score'] == 1 and {test['name']: test['status'] for test in
+                                     honest['tests']} == {'here': 'passed', 'ahead': 'failed'}
+    page = (report / 'report.md').read_text()
+    assert '## honest' in page and '![here](honest/here/run.png)' in page
+    assert (report / 'honest' / 'here' / 'run.mcap').stat().st_size > 0
+
+
+@pytest.mark.parametrize('arguments, complaint', [
+    (['--courses', 'missing.txt', '--', 'python3', '{waypoints}'],
+     'missing.txt: no such course file or folder'),
+    (['--courses', 'COURSES', '--', 'python3', 'x.py'], 'the command has no {waypoints}'),
+    (['--courses', 'COURSES'], "give the submission's command after --"),
+    (['--courses', 'COURSES', '--real-time-factor', '0', '--', 'python3', '{waypoints}'],
+     '--real-time-factor 0 needs --lockstep'),
+    (['--courses', 'COURSES', '--jobs', '0', '--', 'python3', '{waypoints}'],
+     '--jobs must be in [1, 32], got 0'),
+    (['--courses', 'COURSES', '--', 'no_such_program_here', '{waypoints}'],
+     "cannot run 'no_such_program_here': no such program on PATH"),
+    (['--courses', 'BAD', '--', 'python3', '{waypoints}'],
+     "bad.yaml: unknown field 'time_limt'; did you mean time_limit?"),
+])
+def test_bad_input_is_one_line_and_exit_code_2(tmp_path, arguments, complaint):
+    write_course(tmp_path / 'courses', 'fine', '1.0 2.0 0.0')
+    write_course(tmp_path / 'bad', 'bad', '1.0 2.0 0.0', time_limt=3)
+    places = {'COURSES': tmp_path / 'courses', 'BAD': tmp_path / 'bad'}
+    arguments = [places.get(argument, argument) for argument in arguments]
+    result = grade(*arguments, timeout=60, cwd=tmp_path)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith('grade_lab: error: ') and complaint in lines[0]

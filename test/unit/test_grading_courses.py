@@ -1,0 +1,85 @@
+"""Courses to grade on: waypoint files, their YAML beside them, and one line for each mistake."""
+
+import math
+from pathlib import Path
+
+from lab_grader.courses import Course, CourseError, find_courses, load_course
+import pytest
+from simple_robot_control.share import BUNDLED_MAP, shared_file
+
+
+def write(folder, name, waypoints='1.0 2.0 0.0', settings=None):
+    folder.mkdir(exist_ok=True)
+    (folder / f'{name}.txt').write_text(waypoints + '\n')
+    if settings is not None:
+        (folder / f'{name}.yaml').write_text(settings)
+    return folder / f'{name}.txt'
+
+
+def test_a_folder_gives_its_waypoint_files_with_the_labs_defaults(tmp_path):
+    write(tmp_path, 'b', '3 2 90')
+    write(tmp_path, 'a', '2 2 0 4 2 180')
+    (tmp_path / 'notes.md').write_text('not a course')
+    courses = find_courses([tmp_path])
+    assert [course.name for course in courses] == ['a', 'b']
+    a = courses[0]
+    assert [(w.x, w.y, w.theta) for w in a.waypoints] == [(2.0, 2.0, 0.0), (4.0, 2.0, math.pi)]
+    assert (a.start, a.map_file, a.robot_file) == ((1.0, 2.0, 0.0), '', '')
+    assert (a.distance_tolerance, a.angle_tolerance) == (0.1, pytest.approx(math.radians(5)))
+    assert (a.time_limit, a.points, a.max_time, a.max_path_length) == (120.0, 1.0, None, None)
+
+
+def test_a_courses_yaml_sets_its_world_limits_and_points(tmp_path):
+    bundled = Path(shared_file(*BUNDLED_MAP))
+    (tmp_path / 'room.yaml').write_text(bundled.read_text().replace(
+        'lab_room.pgm', str(bundled.with_suffix('.pgm'))))
+    path = write(tmp_path, 'hidden', '5 5 0', 'start: [2.0, 3.0, 90]\nmap: room.yaml\n'
+                 'robot: turtlebot3_burger\ntime_limit: 30\npoints: 2.5\n'
+                 'distance_tolerance: 0.05\nangle_tolerance_deg: 2\nmax_time: 20\n'
+                 'max_path_length: 12.5\n')
+    course = load_course(path, Course('', path, (), time_limit=99.0))
+    assert course.start == (2.0, 3.0, pytest.approx(math.pi / 2))
+    assert course.map_file == str(tmp_path / 'room.yaml')
+    assert course.robot_file.endswith('turtlebot3_burger.xml')
+    assert (course.time_limit, course.points, course.max_time, course.max_path_length) == (
+        30.0, 2.5, 20.0, 12.5)
+    assert course.angle_tolerance == pytest.approx(math.radians(2))
+    assert load_course(write(tmp_path, 'plain')).time_limit == 120.0
+    assert find_courses([path], Course('', path, (), time_limit=99.0))[0].points == 2.5
+
+
+def test_the_bundled_map_is_known_by_name(tmp_path):
+    course = load_course(write(tmp_path, 'c', settings='map: lab_room\n'))
+    assert course.map_file == shared_file(*BUNDLED_MAP)
+
+
+@pytest.mark.parametrize('settings, complaint', [
+    ('time_limt: 5\n', "c.yaml: unknown field 'time_limt'; did you mean time_limit?"),
+    ('start: [1, 2]\n', 'c.yaml: start must be [x, y, theta] (m, m, degrees), got'),
+    ('start: [1, 2, .inf]\n', 'c.yaml: start theta (degrees) must be in [-3600, 3600]'),
+    ('time_limit: 0\n', 'c.yaml: time_limit must be in [1, 86400], got 0'),
+    ('points: -1\n', 'c.yaml: points must be in [0, 1000000], got -1'),
+    ('map: nowhere.yaml\n', "c.yaml: map 'nowhere.yaml' is neither a file beside it nor a "
+     'bundled one (lab_room)'),
+    ('- a list\n', 'c.yaml: course settings must be a mapping of fields'),
+    ('a: [\n', 'c.yaml:2: course settings is not valid YAML'),
+    ('distance_tolerance: yes\n', 'distance_tolerance must be in (0, 10], got True'),
+])
+def test_a_bad_setting_is_one_line_naming_the_file_and_field(tmp_path, settings, complaint):
+    with pytest.raises(CourseError) as raised:
+        load_course(write(tmp_path, 'c', settings=settings))
+    assert complaint in str(raised.value) and '\n' not in str(raised.value)
+
+
+def test_bad_courses_are_refused_whole(tmp_path):
+    with pytest.raises(CourseError, match='no such course file or folder'):
+        find_courses([tmp_path / 'missing'])
+    with pytest.raises(CourseError, match='a folder with no course'):
+        find_courses([tmp_path])
+    with pytest.raises(CourseError, match=r'bad.txt:1: .six. is not a number'):
+        find_courses([write(tmp_path, 'bad', 'six 2 0')])
+    one, two = tmp_path / 'one', tmp_path / 'two'
+    write(one, 'same')
+    write(two, 'same')
+    with pytest.raises(CourseError, match='two courses named same'):
+        find_courses([one, two])
