@@ -37,6 +37,7 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.viewer
 	$(PYTHON) -m bench.requests
 	$(PYTHON) -m bench.recorder
+	$(PYTHON) -m bench.learning
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest

@@ -30,7 +30,7 @@ setup(
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
-                      'pygame', 'regex', 'mcap', 'rosbags', 'psutil'],
+                      'pygame', 'regex', 'mcap', 'rosbags', 'psutil', 'numba', 'gymnasium'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

@@ -23,7 +23,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.logging import LoggingSeverity
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
 from simple_robot_control.bag_recording import BagRecording
@@ -42,6 +42,8 @@ STATUS_TOPIC = '/robot_status'
 # readers match the simulator's publishers and the lab's status publisher (rclpy's default,
 # reliable and volatile) alike, transient-local ones too.
 JUDGED_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+STATUS_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
 SIMULATOR_START = 60.0
 # How long the submission has to make its robot_status publisher before the simulation plays,
 # and how long after the recorder has matched it: the publisher's side of the match may come a
@@ -125,8 +127,10 @@ class GradingRecorder(GuardedNode):
             self.recording.record_now(topic, type_name, JUDGED_QOS,
                                       self._on_truth if 'ground_truth' in topic else None)
         self.ended_at = None
+        # A transient-local status publisher (the lab's controller's) replays to the second
+        # subscription what the first missed while the publisher's side of the match lagged.
         self.recording.record_now(STATUS_TOPIC, 'std_msgs/msg/String', JUDGED_QOS,
-                                  self._on_status)
+                                  self._on_status, STATUS_HISTORY)
         self._set_state = self.create_client(SetSimulationState,
                                              '/stdr_lite/set_simulation_state')
 

@@ -98,6 +98,8 @@ def read_evidence(path: str | os.PathLike, robot_name: str = 'robot0') -> RunEvi
             return 0.0
         return float(times[max(int(np.searchsorted(sent, publish_time_ns, 'right')) - 1, 0)])
     stalled = {when(publish_time) for publish_time in stalls}
+    # In the order they were sent: a history replayed to a late reader comes after newer ones.
+    statuses.sort(key=lambda status: status[1])
     evidence = RunEvidence(times, np.asarray(poses, dtype=float).reshape(-1, 3),
                            [Report(text, parse_status(text), when(publish_time))
                             for text, publish_time in statuses],

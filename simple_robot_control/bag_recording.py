@@ -70,6 +70,7 @@ class BagRecording:
         self._skipped = set()
         self._closed = False
         self._send_times = send_times
+        self._late = {}
         node.create_timer(GRAPH_PERIOD, self._follow_graph,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._follow_graph()
@@ -89,18 +90,25 @@ class BagRecording:
             if publishers:
                 self._record(topic, types, publishers)
 
-    def record_now(self, topic, type_name, qos, then=None):
+    def record_now(self, topic, type_name, qos, then=None, history=None):
         """
         Record topic at once, as type_name with qos, before any publisher of it is known.
 
         Following the graph, a topic is recorded only once its publisher shows, and what that
         publisher sends before the subscription matches is lost unless it is transient local.
-        A topic subscribed to in advance misses nothing a matching publisher sends; its channel
-        says it was offered qos. then(data, sent), if given, also gets each serialised message
-        and the wall time it was sent at (nanoseconds; None without send_times).
+        A topic subscribed to in advance misses nothing a matching publisher sends once
+        matched; its channel says it was offered qos. With history (a transient-local profile),
+        a second subscription asks transient-local publishers for what they sent before the
+        match, and a message both bring (the same send time and bytes) is recorded once.
+        then(data, sent), if given, also gets each serialised message recorded and the wall
+        time it was sent at (nanoseconds; None without send_times).
         """
         channel = self.bag.add_topic(topic, type_name, [offered(qos)])
-        self._subscribe(topic, message_class(type_name), channel, qos, then)
+        seen = set() if history is not None else None
+        self._subscribe(topic, message_class(type_name), channel, qos, then, seen)
+        if history is not None:
+            self._late[topic] = self._make_subscription(
+                topic, message_class(type_name), channel, history, then, seen)
 
     def _record(self, topic, types, publishers):
         kind = message_class(types[0]) if len(types) == 1 else None
@@ -126,13 +134,20 @@ class BagRecording:
             else DurabilityPolicy.VOLATILE))
         self._subscribe(topic, kind, channel, qos)
 
-    def _subscribe(self, topic, kind, channel, qos, then=None):
+    def _subscribe(self, topic, kind, channel, qos, then=None, seen=None):
+        self._recorded[topic] = self._make_subscription(topic, kind, channel, qos, then, seen)
+
+    def _make_subscription(self, topic, kind, channel, qos, then, seen):
         clock = self._node.get_clock()
 
         def write(data, info=None):
             if self._closed:
                 return
             sent = info and info['source_timestamp']
+            if seen is not None:
+                if (sent, data) in seen:
+                    return
+                seen.add((sent, data))
             self.bag.write(channel, clock.now().nanoseconds, data, sent)
             self.received[topic] += 1
             if then is not None:
@@ -140,7 +155,7 @@ class BagRecording:
 
         def write_with_send_time(data, info):
             write(data, info)
-        self._recorded[topic] = self._node.create_subscription(
+        return self._node.create_subscription(
             kind, topic, write_with_send_time if self._send_times else write, qos, raw=True)
 
     def subscription(self, topic):

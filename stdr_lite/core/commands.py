@@ -62,6 +62,25 @@ class CommandBuffer:
                    else CommandOutcome.CLAMPED)
         return (linear * scale, lateral * scale, turn), outcome
 
+    def limited_rows(self, commands: np.ndarray) -> np.ndarray:
+        """Return (linear, lateral, angular) rows within the limits, as limited() makes each."""
+        speed = np.hypot(commands[:, 0], commands[:, 1])
+        outside = (speed > self.max_linear_speed) | (np.abs(commands[:, 2])
+                                                     > self.max_angular_speed)
+        if not outside.any():
+            return commands
+        with np.errstate(divide='ignore'):
+            scale = np.where(speed > 0.0, np.minimum(1.0, self.max_linear_speed / speed), 1.0)
+        limited = np.column_stack([commands[:, 0] * scale, commands[:, 1] * scale,
+                                   np.clip(commands[:, 2], -self.max_angular_speed,
+                                           self.max_angular_speed)])
+        return np.where(outside[:, None], limited, commands)
+
+    def update_rows(self, indices: np.ndarray, commands: np.ndarray, now: float) -> None:
+        """Hold each row of commands for the robot of the same row of indices from now on."""
+        self._commands[indices] = commands
+        self._received_at[indices] = now
+
     def update(self, index: int, command: tuple[float, float, float], now: float) -> None:
         """Hold command (linear, lateral, angular) for robot index from now on."""
         self._commands[index] = command

@@ -32,7 +32,8 @@ class SimulationSettings:
 
     odom_rate_hz 0 is every step; a speed limit of 0 is none, as in STDR (commands.py keeps a
     safety bound); sensor_noise False reads every sensor without its described noise, as STDR
-    does.
+    does; bodies_meet False lets bodies pass through each other unseen, each meeting only the
+    walls (side-by-side independent episodes).
     """
 
     rate_hz: float = 50.0
@@ -46,6 +47,7 @@ class SimulationSettings:
     odometry_noise: OdometryNoise = OdometryNoise()
     odom_seed: int = 0
     motion_seed: int = 0
+    bodies_meet: bool = True
 
 
 class PeriodicSchedule:

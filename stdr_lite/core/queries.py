@@ -84,6 +84,27 @@ class SimulationQueries:
         linear, lateral, angular = (float(values[index]) for values in self._applied)
         return linear, lateral, angular
 
+    def robot_poses(self) -> np.ndarray:
+        """Return every robot's (x, y, theta), a row each in robot_names order (a copy)."""
+        return self.world.poses[self._robot_rows()].copy()
+
+    def robots_stalled(self) -> np.ndarray:
+        """Return whether each robot's last step was refused, in robot_names order."""
+        return self._stalled[self._robot_rows()].copy()
+
+    def _robot_rows(self):
+        if self._robot_rows_cache is None:
+            self._robot_rows_cache = np.array([index for index, entity in
+                                               enumerate(self._entities) if entity.is_robot],
+                                              dtype=np.int64)
+        return self._robot_rows_cache
+
+    def sensor_readings(self, name: str) -> dict:
+        """Read every sensor of a robot now, whatever their schedule: {frame_id: reading}."""
+        specs = [sensor.spec for sensor in self.robot(name).sensors]
+        return {spec.frame_id: reading for spec, reading in
+                zip(specs, self.read_sensors([(name, spec) for spec in specs]))}
+
     def stalled(self, name: str) -> bool:
         """Whether the entity's last step was refused: a wall or another body in its way."""
         return bool(self._stalled[self._index(name)])
@@ -150,7 +171,7 @@ class SimulationQueries:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
         return read_sensors(self._terrain.finder, self.world.poses, self.world.radii,
                             self.world.shapes, [(self._index(name), spec) for name, spec in jobs],
-                            self._noise)
+                            self._noise, self.settings.bodies_meet)
 
     def _index(self, name: str) -> int:
         try:

@@ -55,6 +55,7 @@ class Simulation(SimulationQueries):
         self._odometry_period_ns = (self.dt_ns if settings.odom_rate_hz <= 0.0
                                     else round(NANOSECONDS / settings.odom_rate_hz))
         self._entities, self._indices = [], {}
+        self._robot_rows_cache = None
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
         self._build(self.survey(occupancy_map))
@@ -77,7 +78,7 @@ class Simulation(SimulationQueries):
     def _build(self, terrain):
         self._terrain = terrain
         self.world = World(terrain.occupancy_map, self._largest, self.settings.integrator,
-                           terrain.checker)
+                           terrain.checker, self.settings.bodies_meet)
         self._commands = CommandBuffer(0, self.settings.max_linear_speed,
                                        self.settings.max_angular_speed,
                                        self.settings.cmd_vel_timeout)
@@ -221,6 +222,28 @@ class Simulation(SimulationQueries):
         self._commands.update(index, command, self.sim_time)
         return outcome
 
+    def command_robots(self, linear: np.ndarray, angular: np.ndarray,
+                       lateral: np.ndarray | None = None) -> None:
+        """
+        Hold a command for every robot at once, in robot_names order (a learning loop's).
+
+        Each command is what command() would make of it: its limits, its robot's motion noise,
+        a unicycle's lateral speed dropped; a command that is not finite is ignored.
+        """
+        rows = self._robot_rows()
+        lateral = np.zeros(len(rows)) if lateral is None else lateral
+        commands = np.column_stack([linear, lateral, angular]).astype(float)
+        robots = [self._entities[row] for row in rows]
+        noisy = np.array([robot.motion_noise is not None for robot in robots], dtype=bool)
+        plain = np.isfinite(commands).all(axis=1) & ~noisy
+        limited = self._commands.limited_rows(commands[plain])
+        omni = np.array([robot.description.kinematic.model == 'omni' for robot in robots],
+                        dtype=bool)
+        limited[~omni[plain], 1] = 0.0
+        self._commands.update_rows(rows[plain], limited, self.sim_time)
+        for robot, values in zip(np.flatnonzero(noisy), commands[noisy].tolist()):
+            self.command(robots[robot].name, *values)
+
     def set_velocity(self, name: str, x: float, y: float, angular: float) -> None:
         """
         Set an entity moving at (x, y) m/s in the map frame while turning at angular rad/s.
@@ -259,15 +282,20 @@ class Simulation(SimulationQueries):
             self._odometry.advance(self.world.poses, *self._applied, self.dt)
         self.step_count += 1
 
-    def reset(self, time: bool = True, state: bool = True, spawned: bool = True) -> None:
+    def reset(self, time: bool = True, state: bool = True, spawned: bool = True,
+              seed: int | None = None) -> None:
         """
         Reset the simulation in part or whole, as if started again.
 
         spawned removes the entities added while running; state puts every other entity back
         at its start pose, standing still, with its odometry restarted; time restarts the
-        clock, the schedules and the noise, so a run from here repeats the first. A state
-        whose start poses now overlap raises PlacementError, and nothing changes.
+        clock, the schedules and the noise, so a run from here repeats the first; seed, if
+        given, becomes the seed of every noise (sensors, odometry, motion) from then on. A
+        state whose start poses now overlap raises PlacementError, and nothing changes.
         """
+        if seed is not None:
+            self.settings = replace(self.settings, sensor_seed=seed, odom_seed=seed,
+                                    motion_seed=seed)
         keep = [entity for entity in self._entities if not (spawned and entity.spawned)]
         if state:
             self._rebuild(self._terrain, keep)
@@ -291,7 +319,7 @@ class Simulation(SimulationQueries):
     def _rebuild(self, terrain, entities):
         """Put entities at their start poses in a world of this terrain, all or none of them."""
         trial = World(terrain.occupancy_map, self._largest, self.settings.integrator,
-                      terrain.checker)
+                      terrain.checker, self.settings.bodies_meet)
         for entity in entities:
             try:
                 trial.add_robot(entity.start_pose, entity.radius, entity.shape)
@@ -304,6 +332,7 @@ class Simulation(SimulationQueries):
                                      f'{reason}') from None
         self._build(terrain)
         self._entities, self._indices = [], {}
+        self._robot_rows_cache = None
         for entity in entities:
             self._append(entity)
 
@@ -325,3 +354,4 @@ class Simulation(SimulationQueries):
 
     def _renumber(self) -> None:
         self._indices = {entity.name: index for index, entity in enumerate(self._entities)}
+        self._robot_rows_cache = None

@@ -40,8 +40,14 @@ class World:
     """
 
     def __init__(self, occupancy_map: OccupancyMap, max_radius: float, integrator: str = 'euler',
-                 checker: FootprintChecker | None = None):
-        """Make an empty world; checker, if given, is the map's, made for max_radius."""
+                 checker: FootprintChecker | None = None, bodies_meet: bool = True):
+        """
+        Make an empty world; checker, if given, is the map's, made for max_radius.
+
+        Bodies that do not meet pass through each other and may stand on each other: each
+        meets the walls only, as if alone (independent episodes of learning, side by side).
+        """
+        self.bodies_meet = bodies_meet
         if integrator not in INTEGRATORS:
             raise ValueError(f'integrator must be one of {", ".join(INTEGRATORS)}, '
                              f'got {integrator!r}')
@@ -85,7 +91,7 @@ class World:
         if touches:
             raise PlacementError(f'{footprint} at ({x:g}, {y:g}) touches a wall or the map edge')
         other = overlapped((x, y, theta), radius, shape, self.poses, self.radii, self.shapes,
-                           ignore)
+                           ignore) if self.bodies_meet else None
         if other is not None:
             raise PlacementError(f'{footprint} at ({x:g}, {y:g}) overlaps robot {other}',
                                  overlapped=other)
@@ -140,8 +146,9 @@ class World:
                                theta, angular)
         new_x, new_y, _ = self._advance(x, y, heading, speed, turn, dt)
         new_poses = np.column_stack([new_x, new_y, wrap_angle(theta + angular * dt)])
-        moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
-                                     moves & self._changes_footprint(speed, angular))
+        if self.bodies_meet:
+            moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
+                                         moves & self._changes_footprint(speed, angular))
         self.poses = np.where(moves[:, None], new_poses, self.poses)
         return moves
 
@@ -163,7 +170,7 @@ class World:
                                                               omega), dt))
         moves = np.array(moves)
         new_poses = np.array(ends)
-        if self.robot_count > 1:
+        if self.robot_count > 1 and self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
                                          moves & self._changes_footprint(speed, angular))
         self.poses = np.where(moves[:, None], new_poses, self.poses)

@@ -4,16 +4,17 @@ from dataclasses import dataclass, replace
 import os
 
 from simple_robot_control.node_runtime import ConfigError, require
-from simple_robot_control.occupancy_map import load_map, MapError
+from simple_robot_control.occupancy_map import MapError
 from simple_robot_control.parameters import ParameterSpec
-from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
+from simple_robot_control.share import BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
 from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 from stdr_lite.core.kinematics import INTEGRATORS
+from stdr_lite.core.loading import load_world
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
 from stdr_lite.core.robot_list import load_robot_list
-from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
+from stdr_lite.core.simulation import RequestError, SimulationSettings
 from stdr_lite.core.world import PlacementError
 
 FRAME_STYLES = ('rep105', 'stdr')
@@ -155,14 +156,6 @@ def build_simulation(params, folders):
     folders is where robot files' includes are looked for (search_path). Anything that cannot
     be used raises ConfigError with one line naming it.
     """
-    map_yaml = params['map_yaml'] or shared_file(*BUNDLED_MAP)
-    try:
-        occupancy_map = load_map(map_yaml)
-        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),
-                                 folders)
-        entries = _robot_entries(params, description, folders)
-    except (MapError, RobotFileError) as error:
-        raise ConfigError(str(error)) from None
     require(params['odom_rate_hz'] <= params['rate_hz'],
             f'odom_rate_hz must be at most rate_hz ({params["rate_hz"]:g}), got '
             f'{params["odom_rate_hz"]:g}')
@@ -173,8 +166,11 @@ def build_simulation(params, folders):
             'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
             'sensor_seed', 'sensor_noise', 'odom_rate_hz', 'odom_seed', 'motion_seed')})
     try:
-        return Simulation(occupancy_map, settings, entries), description
-    except (PlacementError, RequestError) as error:
+        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),
+                                 folders)
+        entries = _robot_entries(params, description, folders)
+        return load_world(params['map_yaml'], entries, settings), description
+    except (MapError, RobotFileError, PlacementError, RequestError) as error:
         raise ConfigError(str(error)) from None
 
 

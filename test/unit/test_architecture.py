@@ -27,7 +27,9 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'run_record', 'run_bag', 'planner', 'reeds_shepp', 'clearance')] + [
     f'lab_grader/{name}.py' for name in (
         'courses', 'evidence', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
-    'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py']
+    'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
+    f'stdr_lite/learning/{name}.py' for name in (
+        'course', 'arena', 'waypoints_env', 'vector_env', 'rendering')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 

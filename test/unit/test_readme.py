@@ -47,3 +47,14 @@ def test_the_robot_file_examples_load_as_shown(page, tmp_path):
         path.write_text(text)
         robot = load_robot(path, (shared_file(*BUNDLED_RESOURCES),))
         assert robot.lasers or robot.sonars
+
+
+def test_the_python_examples_run_as_shown(tmp_path, monkeypatch):
+    """The README's Python blocks run as they stand, in a fresh folder."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
+    blocks = examples('README.md', 'python')
+    assert len(blocks) == 2
+    for block in blocks:
+        exec(compile(block, 'README.md', 'exec'), {})
+    assert (tmp_path / 'path.png').stat().st_size > 0

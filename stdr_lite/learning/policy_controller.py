@@ -1,0 +1,110 @@
+"""
+A policy learned in process, driving a robot of a live stdr_lite through ROS, unchanged.
+
+PolicyController is a node: from the robot's odometry and laser it builds the observation a
+WaypointsEnv would give (course.observe), asks the policy (any callable: observation ->
+(linear m/s, angular rad/s)) for an action at the environment's rate, sends it as cmd_vel, and
+reports on robot_status as the lab asks (STARTED, WAYPOINT n, FINISHED), so that grade_lab can
+grade it as it grades a student's controller. The laser's rays are taken at the environment's
+angles (the nearest ray of the scan to each): a scan of the same rays gives the same
+observation to the bit.
+"""
+
+import math
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+import numpy as np
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from sensor_msgs.msg import LaserScan
+from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.pose import pose_from_message
+from std_msgs.msg import String
+from stdr_lite.core.sensors import relative_angles
+from stdr_lite.learning.arena import laser_robot
+from stdr_lite.learning.course import Courses, observe, TaskSettings
+
+STATUS_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
+                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
+    """Return the scan's ranges at angles (the nearest ray to each); inf where none returned."""
+    ranges = np.asarray(scan.ranges, dtype=float)
+    if scan.angle_increment == 0.0 or not len(ranges):
+        return np.full(angles.size, np.inf)
+    index = np.rint((angles - scan.angle_min) / scan.angle_increment).astype(np.int64)
+    index = np.clip(index, 0, len(ranges) - 1)
+    picked = ranges[index]
+    return np.where(np.isnan(picked) | (picked > scan.range_max), np.inf, picked)
+
+
+class PolicyController(GuardedNode):
+    """
+    Drives robot_name through waypoints ((x, y, theta radians) each) with policy.
+
+    The task (goal set, laser rays, speeds) must be the one the policy learned on; robot is
+    the robot file it learned with (its first laser's span and range are the observation's).
+    finished completes with 0 on FINISHED.
+    """
+
+    def __init__(self, policy, waypoints, task: TaskSettings = TaskSettings(), robot: str = '',
+                 robot_name: str = 'robot0', laser: str = 'laser_0', rate_hz: float = 10.0,
+                 **kwargs):
+        super().__init__('policy_controller', **kwargs)
+        self.finished = Future()
+        self._policy, self._task = policy, task
+        spec = laser_robot(robot, task.laser_rays).lasers[0]
+        self._angles, self._max_range = relative_angles(spec), spec.max_range
+        self._courses = Courses(np.asarray(waypoints, dtype=float)[None, :, :], task)
+        self._pose = self._scan = None
+        self._started = False
+        self._command = self.create_publisher(Twist, f'{robot_name}/cmd_vel', 10)
+        self._status = self.create_publisher(String, 'robot_status', STATUS_QOS)
+        self.create_subscription(Odometry, f'{robot_name}/odom', self._on_odometry, 10)
+        self.create_subscription(LaserScan, f'{robot_name}/{laser}', self._on_scan, 10)
+        self.create_timer(1.0 / rate_hz, self._act)
+
+    def _on_odometry(self, message):
+        self._pose = np.array(pose_from_message(message.pose.pose))
+
+    def _on_scan(self, message):
+        self._scan = message
+
+    def _say(self, text):
+        self._status.publish(String(data=text))
+        self.get_logger().info(text)
+
+    def _pose_text(self):
+        x, y, theta = self._pose
+        return f'{x:.3f} {y:.3f} {math.degrees(theta):.2f}'
+
+    def _act(self):
+        if self._pose is None or self._scan is None or self.finished.done():
+            return
+        poses = self._pose[None, :]
+        if not self._started:
+            self._started = True
+            self._courses.start(poses)
+            self._say(f'STARTED {self._pose_text()}')
+        _, reached, finished = self._courses.update(poses, np.zeros(1, dtype=bool))
+        if reached[0]:
+            self._say(f'WAYPOINT {self._courses.next[0]} {self._pose_text()}')
+        if finished[0]:
+            self._command.publish(Twist())
+            self._say('FINISHED')
+            self.finished.set_result(0)
+            return
+        ranges = scan_at(self._scan, self._angles)[None, :]
+        observation = observe(ranges, self._max_range, poses, self._courses.goals)[0]
+        linear, angular = np.clip(np.asarray(self._policy(observation), dtype=float),
+                                  [-self._task.max_linear_speed, -self._task.max_angular_speed],
+                                  [self._task.max_linear_speed, self._task.max_angular_speed])
+        twist = Twist()
+        twist.linear.x, twist.angular.z = float(linear), float(angular)
+        self._command.publish(twist)
+
+    def shut_down(self):
+        """Stop the robot."""
+        self._command.publish(Twist())

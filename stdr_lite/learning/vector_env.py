@@ -1,0 +1,103 @@
+"""
+Many robots in one stdr_lite world, each its own episode: Gymnasium's vector API, batched.
+
+One step moves every robot (one world step, every laser cast in one call); the robots do not
+meet, so sub-environment i behaves exactly as a WaypointsEnv would, seeded with seed + i (as
+Gymnasium's vector environments seed theirs). Episodes reset themselves on the step after they
+end (Gymnasium's next-step autoreset): that step's action is ignored for them, and they
+return their first observation with no reward.
+"""
+
+import math
+
+import gymnasium as gym
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+import numpy as np
+from stdr_lite.learning import MAX_EPISODE_STEPS
+from stdr_lite.learning.arena import Arena
+from stdr_lite.learning.course import TaskSettings
+from stdr_lite.learning.rendering import ArenaPicture
+from stdr_lite.learning.waypoints_env import spaces_of
+
+
+class WaypointsVectorEnv(VectorEnv):
+    """
+    num_envs robots of stdr_lite/Waypoints-v0 in one world (parameters as WaypointsEnv's).
+
+    max_episode_steps truncates each episode, as the single environment's registration does.
+    """
+
+    metadata = {'render_modes': ['rgb_array', 'human'], 'render_fps': 10,
+                'autoreset_mode': AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_envs=8, waypoints=3, distance_tolerance=0.1, angle_tolerance=5.0,
+                 laser_rays=64, max_linear_speed=0.5, max_angular_speed=1.0, map_name='', robot='',
+                 rate_hz=10.0, random_start=True, sensor_noise=True,
+                 max_episode_steps=MAX_EPISODE_STEPS, render_mode=None):
+        self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
+                                 laser_rays, max_linear_speed, max_angular_speed,
+                                 random_start=random_start)
+        self.num_envs = num_envs
+        self.arena = Arena(num_envs, self.task, map_name, robot, rate_hz, sensor_noise,
+                           bodies_meet=False)
+        self.single_observation_space, self.single_action_space = spaces_of(self.task)
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.render_mode = render_mode
+        self.max_episode_steps = max_episode_steps
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._ended = np.zeros(num_envs, dtype=bool)
+        self._generators = [np.random.default_rng() for _ in range(num_envs)]
+        self._picture = None
+
+    def reset(self, *, seed=None, options=None):
+        if seed is not None:
+            seeds = (seed if isinstance(seed, (list, tuple))
+                     else [seed + index for index in range(self.num_envs)])
+            self._generators = [np.random.default_rng(value) for value in seeds]
+            self._np_random_seed = seeds[0]
+        # Each draws the seed a WaypointsEnv draws for its world, so that their draws agree.
+        world_seeds = [int(generator.integers(2 ** 31)) for generator in self._generators]
+        self.arena.world.reset(seed=world_seeds[0])
+        for robot, generator in enumerate(self._generators):
+            self.arena.restart(robot, generator, options)
+        self.arena.courses.start(self.arena.poses)
+        self._steps[:] = 0
+        self._ended[:] = False
+        return self.arena.observations(), self._infos()
+
+    def step(self, actions):
+        actions = np.array(actions, dtype=float).reshape(self.num_envs, 2)
+        restarting = self._ended.copy()
+        actions[restarting] = 0.0
+        self.arena.act(actions)
+        reward, reached, finished = self.arena.step()
+        for robot in np.flatnonzero(restarting):
+            self._generators[robot].integers(2 ** 31)
+            self.arena.restart(robot, self._generators[robot])
+        self._steps = np.where(restarting, 0, self._steps + 1)
+        truncated = ~finished & (self._steps >= self.max_episode_steps)
+        reward[restarting] = 0.0
+        finished[restarting] = truncated[restarting] = False
+        self._ended = finished | truncated
+        return (self.arena.observations(), reward, finished, truncated,
+                self._infos(reached & ~restarting))
+
+    def _infos(self, reached=None):
+        reached = np.zeros(self.num_envs, dtype=bool) if reached is None else reached
+        return {'pose': self.arena.poses.copy(), 'waypoint': self.arena.courses.next.copy(),
+                'reached': reached}
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn('render() without a render_mode')
+            return None
+        if self._picture is None:
+            self._picture = ArenaPicture(self.arena, self.render_mode)
+        return self._picture.draw(self.arena.ranges, f'{self.num_envs} robots')
+
+    def close_extras(self, **kwargs):
+        if self._picture is not None:
+            self._picture.close()
+            self._picture = None

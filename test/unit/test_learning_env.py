@@ -1,0 +1,130 @@
+"""stdr_lite/Waypoints-v0 and its vector form: Gymnasium's rules, the lab's goal set, seeds."""
+
+import math
+
+import gymnasium as gym
+from gymnasium.utils.env_checker import check_env
+import numpy as np
+import pytest
+import stdr_lite.learning  # noqa: F401  (registers the environments)
+from stdr_lite.learning.course import Courses, in_goal_set, TaskSettings, WAYPOINT
+from stdr_lite.learning.vector_env import WaypointsVectorEnv
+from stdr_lite.learning.waypoints_env import WaypointsEnv
+from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.control_law import in_goal_set as lab_goal_set
+from waypoint_controller.waypoints import Waypoint
+
+
+def test_gymnasiums_checker_passes():
+    env = gym.make('stdr_lite/Waypoints-v0')
+    check_env(env.unwrapped, skip_render_check=True)
+    assert env.spec.max_episode_steps == 1000
+    assert env.observation_space.shape == (69,) and env.action_space.shape == (2,)
+
+
+def test_seeded_resets_repeat_and_seeds_differ():
+    env = WaypointsEnv()
+    first, info = env.reset(seed=7)
+    steps = [env.step(np.array([0.3, 0.5], dtype=np.float32))[0] for _ in range(20)]
+    again, info_again = env.reset(seed=7)
+    assert np.array_equal(first, again) and np.array_equal(info['pose'], info_again['pose'])
+    assert all(np.array_equal(before, env.step(np.array([0.3, 0.5], dtype=np.float32))[0])
+               for before in steps)
+    other, _ = env.reset(seed=8)
+    assert not np.array_equal(first, other)
+
+
+def test_the_goal_set_is_the_labs():
+    rng = np.random.default_rng(1)
+    task = TaskSettings()
+    poses = rng.uniform([-0.2, -0.2, -math.pi], [0.2, 0.2, math.pi], (2000, 3))
+    goals = np.tile([0.0, 0.0, 3.1], (2000, 1))
+    config = ControllerConfig(distance_tolerance=task.distance_tolerance,
+                              angle_tolerance=task.angle_tolerance)
+    lab = [lab_goal_set(tuple(pose), Waypoint(0.0, 0.0, 3.1), config) for pose in poses]
+    assert in_goal_set(poses, goals, task).tolist() == lab and any(lab)
+
+
+def test_reward_and_termination_follow_the_goal_set():
+    env = WaypointsEnv(waypoints=2, sensor_noise=False)
+    start = (5.0, 5.0, 0.0)
+    course = [(5.0, 5.0, 0.0), (5.05, 5.0, 0.0)]
+    env.reset(seed=0, options={'start': start, 'waypoints': course})
+    _, reward, terminated, truncated, info = env.step(np.zeros(2, dtype=np.float32))
+    assert info['reached'] and info['waypoint'] == 1 and not terminated
+    assert reward == pytest.approx(WAYPOINT - 0.01)
+    _, reward, terminated, _, info = env.step(np.array([0.5, 0.0], dtype=np.float32))
+    assert info['reached'] and terminated and not truncated
+    assert reward == pytest.approx(WAYPOINT - 0.01 + 0.05)
+
+
+def test_a_turn_short_of_the_heading_is_no_waypoint():
+    task = TaskSettings(waypoints=1)
+    courses = Courses(np.array([[[0.0, 0.0, math.radians(10.0)]]]), task)
+    courses.start(np.zeros((1, 3)))
+    reward, reached, finished = courses.update(np.array([[0.05, 0.0, math.radians(4.0)]]),
+                                               np.zeros(1, dtype=bool))
+    assert not reached[0] and not finished[0]
+    assert reward[0] == pytest.approx(-0.05 + 0.5 * math.radians(4.0) - 0.01)
+    _, reached, finished = courses.update(np.array([[0.05, 0.0, math.radians(5.5)]]),
+                                          np.ones(1, dtype=bool))
+    assert reached[0] and finished[0]
+
+
+def test_our_control_law_solves_the_environment():
+    env = gym.make('stdr_lite/Waypoints-v0', waypoints=3)
+    for seed in range(3):
+        _, info = env.reset(seed=seed)
+        courses = env.unwrapped.arena.courses
+        follower = CourseFollower([Waypoint(*waypoint) for waypoint in courses.waypoints[0]])
+        terminated = truncated = False
+        total = 0.0
+        while not (terminated or truncated):
+            step = follower.update(tuple(info['pose']), 0.1)
+            _, reward, terminated, truncated, info = env.step(
+                np.array([step.linear, step.angular], dtype=np.float32))
+            total += reward
+        assert terminated and not truncated, f'seed {seed}: the course was not finished'
+        assert total > 3 * WAYPOINT - 5.0
+
+
+def test_the_vector_equals_single_environments_stepped_alike():
+    vector = WaypointsVectorEnv(num_envs=3, sensor_noise=False, max_episode_steps=30)
+    singles = [gym.make('stdr_lite/Waypoints-v0', sensor_noise=False, max_episode_steps=30)
+               for _ in range(3)]
+    observations, _ = vector.reset(seed=11)
+    for index, env in enumerate(singles):
+        single, _ = env.reset(seed=11 + index)
+        assert np.array_equal(single, observations[index])
+    rng = np.random.default_rng(0)
+    ended = [False] * 3
+    restarts = 0
+    for _ in range(40):
+        actions = rng.uniform([-0.5, -1.0], [0.5, 1.0], (3, 2)).astype(np.float32)
+        observations, rewards, terminated, truncated, _ = vector.step(actions)
+        for index, env in enumerate(singles):
+            if ended[index]:
+                restarts += 1
+                single, _ = env.reset()
+                reward, done, cut = 0.0, False, False
+            else:
+                single, reward, done, cut, _ = env.step(actions[index])
+            assert np.array_equal(single, observations[index])
+            assert (reward, done, cut) == (rewards[index], terminated[index], truncated[index])
+            ended[index] = done or cut
+    assert restarts == 3, 'every episode was cut at 30 steps and started again'
+
+
+def test_pictures_are_the_viewers_scene():
+    env = gym.make('stdr_lite/Waypoints-v0', render_mode='rgb_array')
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (450, 600, 3) and frame.dtype == np.uint8
+    assert (frame == 0).all(axis=2).any(), 'black walls'
+    assert ((frame[:, :, 0] > 200) & (frame[:, :, 1] < 60)).any(), 'the red laser'
+    vector = gym.make_vec('stdr_lite/Waypoints-v0', num_envs=4,
+                          vectorization_mode='vector_entry_point', render_mode='rgb_array')
+    vector.reset(seed=0)
+    assert vector.render().shape == (450, 600, 3)
+    env.close()
+    vector.close()
