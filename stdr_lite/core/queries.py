@@ -12,7 +12,7 @@ from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import compose, invert
 from stdr_lite.core.entities import NANOSECONDS, RequestError, sensor_groups, SimulatedEntity
 from stdr_lite.core.odometry import NO_SPREAD, OdometryReading
-from stdr_lite.core.sensors import read_sensors
+from stdr_lite.core.sensors import read_sensors, ReadingPlan
 
 
 class SimulationQueries:
@@ -91,6 +91,21 @@ class SimulationQueries:
     def robots_stalled(self) -> np.ndarray:
         """Return whether each robot's last step was refused, in robot_names order."""
         return self._stalled[self._robot_rows()].copy()
+
+    def read_lasers(self, names: list[str], spec) -> np.ndarray:
+        """
+        Read one laser (a LaserSpec) on each robot of names now: a row of ranges each.
+
+        The same readings as read_sensors gives, as one array, for a loop reading the same
+        lasers every step (a vector of learning environments).
+        """
+        key = (tuple(names), spec)
+        plan = self._laser_plans.get(key)
+        if plan is None:
+            plan = self._laser_plans[key] = ReadingPlan(tuple((self._index(name), spec)
+                                                              for name in names))
+        return plan.read_lasers(self._terrain.finder, self.world.poses, self.world.radii,
+                                self.world.shapes, self._noise, self.settings.bodies_meet)
 
     def _robot_rows(self):
         if self._robot_rows_cache is None:

@@ -97,56 +97,91 @@ def _segment_distance(x, y, start_x, start_y, end_x, end_y):
 
 
 @njit(cache=True)
+def _cast_group(clearance, resolution, origin, diagonal, x, y, max_range, owner, base_angle,
+                angles, circles, edges, edge_owners, near_circles, near_edges, out):
+    """Cast one sensor's rays from (x, y), at base_angle plus each of angles, into out."""
+    origin_x, origin_y, cos_yaw, sin_yaw = origin[0], origin[1], origin[2], origin[3]
+    circle_count = 0
+    for index in range(circles.shape[0]):
+        reach = max_range + circles[index, 2]
+        if (index != owner and abs(circles[index, 0] - x) <= reach
+                and abs(circles[index, 1] - y) <= reach):
+            near_circles[circle_count] = index
+            circle_count += 1
+    edge_count = 0
+    for index in range(edges.shape[0]):
+        if edge_owners[index] != owner and _segment_distance(
+                x, y, edges[index, 0], edges[index, 1], edges[index, 2],
+                edges[index, 3]) <= max_range:
+            near_edges[edge_count] = index
+            edge_count += 1
+    dx, dy = x - origin_x, y - origin_y
+    column = (cos_yaw * dx + sin_yaw * dy) / resolution + 1.0
+    row = (-sin_yaw * dx + cos_yaw * dy) / resolution + 1.0
+    for ray in range(angles.size):
+        angle = base_angle + angles[ray]
+        cos_angle, sin_angle = math.cos(angle), math.sin(angle)
+        nearest = _wall_distance(clearance, resolution, diagonal, column, row,
+                                 (cos_yaw * cos_angle + sin_yaw * sin_angle) / resolution,
+                                 (-sin_yaw * cos_angle + cos_yaw * sin_angle) / resolution,
+                                 max_range)
+        for near in range(circle_count):
+            index = near_circles[near]
+            nearest = min(nearest, _circle_distance(x, y, cos_angle, sin_angle,
+                                                    circles[index, 0], circles[index, 1],
+                                                    circles[index, 2]))
+        for near in range(edge_count):
+            index = near_edges[near]
+            nearest = min(nearest, _edge_distance(x, y, cos_angle, sin_angle,
+                                                  edges[index, 0], edges[index, 1],
+                                                  edges[index, 2], edges[index, 3]))
+        out[ray] = nearest if nearest <= max_range else math.inf
+
+
+@njit(cache=True)
 def cast_groups(clearance, resolution, origin, diagonal, group_starts, group_x, group_y,
                 group_range, group_owner, angles, circles, edges, edge_owners):
     """
     Return the distance along each ray to the first wall or body, inf beyond its max_range.
 
     Rays come in groups sharing an origin, a max_range and an owner (a sensor's rays):
-    group g holds rays group_starts[g] to group_starts[g + 1]. clearance is the padded grid of
-    sensors.RangeFinder, origin its (x, y, cos yaw, sin yaw); circles are (x, y, radius) rows,
-    a NaN radius meeting nothing; edges are (start x, start y, end x, end y) rows. A group
-    ignores the circle of index group_owner and the edges of that owner.
+    group g holds rays group_starts[g] to group_starts[g + 1], at the angles given. clearance
+    is the padded grid of sensors.RangeFinder, origin its (x, y, cos yaw, sin yaw); circles are
+    (x, y, radius) rows, a NaN radius meeting nothing; edges are (start x, start y, end x,
+    end y) rows. A group ignores the circle of index group_owner and the edges of that owner.
     """
     distances = np.empty(angles.size)
-    origin_x, origin_y, cos_yaw, sin_yaw = origin[0], origin[1], origin[2], origin[3]
     near_circles = np.empty(circles.shape[0], dtype=np.int64)
     near_edges = np.empty(edges.shape[0], dtype=np.int64)
     for group in range(group_starts.size - 1):
-        x, y, max_range = group_x[group], group_y[group], group_range[group]
-        owner = group_owner[group]
-        circle_count = 0
-        for index in range(circles.shape[0]):
-            reach = max_range + circles[index, 2]
-            if (index != owner and abs(circles[index, 0] - x) <= reach
-                    and abs(circles[index, 1] - y) <= reach):
-                near_circles[circle_count] = index
-                circle_count += 1
-        edge_count = 0
-        for index in range(edges.shape[0]):
-            if edge_owners[index] != owner and _segment_distance(
-                    x, y, edges[index, 0], edges[index, 1], edges[index, 2],
-                    edges[index, 3]) <= max_range:
-                near_edges[edge_count] = index
-                edge_count += 1
-        dx, dy = x - origin_x, y - origin_y
-        column = (cos_yaw * dx + sin_yaw * dy) / resolution + 1.0
-        row = (-sin_yaw * dx + cos_yaw * dy) / resolution + 1.0
-        for ray in range(group_starts[group], group_starts[group + 1]):
-            cos_angle, sin_angle = math.cos(angles[ray]), math.sin(angles[ray])
-            nearest = _wall_distance(clearance, resolution, diagonal, column, row,
-                                     (cos_yaw * cos_angle + sin_yaw * sin_angle) / resolution,
-                                     (-sin_yaw * cos_angle + cos_yaw * sin_angle) / resolution,
-                                     max_range)
-            for near in range(circle_count):
-                index = near_circles[near]
-                nearest = min(nearest, _circle_distance(x, y, cos_angle, sin_angle,
-                                                        circles[index, 0], circles[index, 1],
-                                                        circles[index, 2]))
-            for near in range(edge_count):
-                index = near_edges[near]
-                nearest = min(nearest, _edge_distance(x, y, cos_angle, sin_angle,
-                                                      edges[index, 0], edges[index, 1],
-                                                      edges[index, 2], edges[index, 3]))
-            distances[ray] = nearest if nearest <= max_range else math.inf
+        first, last = group_starts[group], group_starts[group + 1]
+        _cast_group(clearance, resolution, origin, diagonal, group_x[group], group_y[group],
+                    group_range[group], group_owner[group], 0.0, angles[first:last], circles,
+                    edges, edge_owners, near_circles, near_edges, distances[first:last])
+    return distances
+
+
+@njit(cache=True)
+def cast_mounted(clearance, resolution, origin, diagonal, poses, robots, mounts, group_starts,
+                 relative, group_range, circles, edges, edge_owners):
+    """
+    Cast the rays of sensors mounted on bodies, as cast_groups casts a group each.
+
+    Sensor g is mounted at mounts[g] (x, y, theta in its body's frame) on body robots[g], whose
+    pose is a row of poses; its rays point at relative angles from its own heading.
+    """
+    distances = np.empty(relative.size)
+    near_circles = np.empty(circles.shape[0], dtype=np.int64)
+    near_edges = np.empty(edges.shape[0], dtype=np.int64)
+    for group in range(group_starts.size - 1):
+        robot = robots[group]
+        x, y, theta = poses[robot, 0], poses[robot, 1], poses[robot, 2]
+        cos_theta, sin_theta = math.cos(theta), math.sin(theta)
+        mount_x, mount_y = mounts[group, 0], mounts[group, 1]
+        first, last = group_starts[group], group_starts[group + 1]
+        _cast_group(clearance, resolution, origin, diagonal,
+                    x + cos_theta * mount_x - sin_theta * mount_y,
+                    y + sin_theta * mount_x + cos_theta * mount_y, group_range[group], robot,
+                    theta + mounts[group, 2], relative[first:last], circles, edges,
+                    edge_owners, near_circles, near_edges, distances[first:last])
     return distances

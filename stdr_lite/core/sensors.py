@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.collision import wall_distances
 from stdr_lite.core.footprints import placed
-from stdr_lite.core.raycast import cast_groups
+from stdr_lite.core.raycast import cast_groups, cast_mounted
 from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 SONAR_RAYS = 9
@@ -84,6 +84,15 @@ class RangeFinder:
         return self.cast_groups(np.append(firsts, x.size), x[firsts], y[firsts],
                                 max_range[firsts], owner[firsts], angle, circle_rows, edge_rows,
                                 edge_owners)
+
+    def cast_mounted(self, poses: np.ndarray, robots: np.ndarray, mounts: np.ndarray,
+                     group_starts: np.ndarray, relative: np.ndarray, max_range: np.ndarray,
+                     circles: np.ndarray, edges: np.ndarray,
+                     edge_owners: np.ndarray) -> np.ndarray:
+        """Cast the rays of sensors mounted on bodies (raycast.cast_mounted says how)."""
+        return cast_mounted(self._clearance, self.resolution, self._origin, self._diagonal,
+                            np.ascontiguousarray(poses, dtype=float), robots, mounts,
+                            group_starts, relative, max_range, circles, edges, edge_owners)
 
     def cast_groups(self, group_starts: np.ndarray, x: np.ndarray, y: np.ndarray,
                     max_range: np.ndarray, owner: np.ndarray, angle: np.ndarray,
@@ -176,28 +185,30 @@ class ReadingPlan:
 
         Without bodies, rays meet the walls only.
         """
-        mounted = poses[self.robots]
-        cos_theta, sin_theta = np.cos(mounted[:, 2]), np.sin(mounted[:, 2])
-        x = mounted[:, 0] + cos_theta * self.mounts[:, 0] - sin_theta * self.mounts[:, 1]
-        y = mounted[:, 1] + sin_theta * self.mounts[:, 0] + cos_theta * self.mounts[:, 1]
-        angles = np.repeat(mounted[:, 2] + self.mounts[:, 2], self.sizes) + self.relative
-        if not bodies:
-            return finder.cast_groups(self.group_starts, x, y, self.max_range, self.robots,
-                                      angles, _NO_CIRCLES, *_NO_EDGES)
-        polygonal = np.array([shape is not None for shape in shapes], dtype=bool)
-        # A polygon is met by its edges, not its circle: a NaN radius meets no ray.
-        circles = np.empty((len(poses), 3))
-        circles[:, :2] = poses[:, :2]
-        circles[:, 2] = radii
-        edges, edge_owners = _NO_EDGES
-        if polygonal.any():
-            circles[polygonal, 2] = np.nan
-            corners = [placed(shapes[index], poses[index]) for index in np.flatnonzero(polygonal)]
-            edges = np.concatenate([np.column_stack([points, np.roll(points, -1, axis=0)])
-                                    for points in corners])
-            edge_owners = np.repeat(np.flatnonzero(polygonal), [len(points) for points in corners])
-        return finder.cast_groups(self.group_starts, x, y, self.max_range, self.robots, angles,
-                                  circles, edges, edge_owners)
+        circles, edges, edge_owners = _NO_CIRCLES, *_NO_EDGES
+        if bodies and len(poses) > 1:
+            polygonal = np.array([shape is not None for shape in shapes], dtype=bool)
+            # A polygon is met by its edges, not its circle: a NaN radius meets no ray.
+            circles = np.empty((len(poses), 3))
+            circles[:, :2] = poses[:, :2]
+            circles[:, 2] = radii
+            if polygonal.any():
+                circles[polygonal, 2] = np.nan
+                corners = [placed(shapes[index], poses[index])
+                           for index in np.flatnonzero(polygonal)]
+                edges = np.concatenate([np.column_stack([points, np.roll(points, -1, axis=0)])
+                                        for points in corners])
+                edge_owners = np.repeat(np.flatnonzero(polygonal),
+                                        [len(points) for points in corners])
+        return finder.cast_mounted(poses, self.robots, self.mounts, self.group_starts,
+                                   self.relative, self.max_range, circles, edges, edge_owners)
+
+    def read_lasers(self, finder: RangeFinder, poses: np.ndarray, radii: np.ndarray,
+                    shapes: list, rng: np.random.Generator, bodies: bool = True) -> np.ndarray:
+        """Return the ranges of lasers of one ray count as rows of an array, as read() would."""
+        distances = self.distances(finder, poses, radii, shapes, bodies)
+        return apply_noise_and_limits(distances, *self._laser_limits, rng).reshape(
+            len(self.sizes), -1)
 
     def read(self, finder: RangeFinder, poses: np.ndarray, radii: np.ndarray, shapes: list,
              rng: np.random.Generator, bodies: bool = True) -> list:

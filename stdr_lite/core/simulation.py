@@ -28,7 +28,7 @@ from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.queries import SimulationQueries
 from stdr_lite.core.robot_description import RobotEntry, without_sensor_noise
 from stdr_lite.core.terrain import survey, Terrain
-from stdr_lite.core.world import PlacementError, World
+from stdr_lite.core.world import FEW_BODIES, PlacementError, World
 
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
@@ -56,6 +56,7 @@ class Simulation(SimulationQueries):
                                     else round(NANOSECONDS / settings.odom_rate_hz))
         self._entities, self._indices = [], {}
         self._robot_rows_cache = None
+        self._laser_plans = {}
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
         self._build(self.survey(occupancy_map))
@@ -232,6 +233,11 @@ class Simulation(SimulationQueries):
         """
         rows = self._robot_rows()
         lateral = np.zeros(len(rows)) if lateral is None else lateral
+        if len(rows) <= FEW_BODIES:
+            for row, values in zip(rows.tolist(), zip(linear.tolist(), angular.tolist(),
+                                                      lateral.tolist())):
+                self.command(self._entities[row].name, *values)
+            return
         commands = np.column_stack([linear, lateral, angular]).astype(float)
         robots = [self._entities[row] for row in rows]
         noisy = np.array([robot.motion_noise is not None for robot in robots], dtype=bool)
@@ -333,6 +339,7 @@ class Simulation(SimulationQueries):
         self._build(terrain)
         self._entities, self._indices = [], {}
         self._robot_rows_cache = None
+        self._laser_plans = {}
         for entity in entities:
             self._append(entity)
 
@@ -355,3 +362,4 @@ class Simulation(SimulationQueries):
     def _renumber(self) -> None:
         self._indices = {entity.name: index for index, entity in enumerate(self._entities)}
         self._robot_rows_cache = None
+        self._laser_plans = {}

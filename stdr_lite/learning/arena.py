@@ -46,7 +46,6 @@ class Arena:
         self.names = self.world.robot_names
         # The laser as the world holds it: without its noise if sensor_noise is off.
         self.laser = self.world.robot(self.names[0]).description.lasers[0]
-        self._jobs = [(name, self.laser) for name in self.names]
         self.courses = Courses(np.zeros((count, task.waypoints, 3)), task)
         self._clearance = task.clearance + description.radius
         self.ranges = np.full((count, task.laser_rays), np.inf)
@@ -100,5 +99,5 @@ class Arena:
 
     def observations(self) -> np.ndarray:
         """Return every robot's observation (see course.observe)."""
-        self.ranges = np.array(self.world.read_sensors(self._jobs))
+        self.ranges = self.world.read_lasers(self.names, self.laser)
         return observe(self.ranges, self.laser.max_range, self.poses, self.courses.goals)

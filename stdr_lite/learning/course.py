@@ -104,13 +104,15 @@ class Courses:
         self.settings = settings
         self.next = np.zeros(len(self.waypoints), dtype=np.int64)
         self._rows = np.arange(len(self.waypoints))
-        self._errors = None
+        self._errors = self._goals = None
 
     @property
     def goals(self) -> np.ndarray:
         """Return each robot's current waypoint (the last one once it has finished)."""
-        index = np.minimum(self.next, self.waypoints.shape[1] - 1)
-        return self.waypoints[self._rows, index]
+        if self._goals is None:
+            index = np.minimum(self.next, self.waypoints.shape[1] - 1)
+            self._goals = self.waypoints[self._rows, index]
+        return self._goals
 
     @property
     def finished(self) -> np.ndarray:
@@ -120,6 +122,7 @@ class Courses:
         """Give one robot a new course, from pose."""
         self.waypoints[robot] = waypoints
         self.next[robot] = 0
+        self._goals = None
         if self._errors is not None:
             distance, heading = goal_errors(pose[None, :], self.goals[[robot]])
             self._errors[0][robot], self._errors[1][robot] = distance[0], heading[0]
@@ -143,6 +146,7 @@ class Courses:
         self._errors = distance, heading
         if reached.any():
             self.next = self.next + reached
+            self._goals = None
             self._errors = goal_errors(poses, self.goals)
         return reward, reached, reached & self.finished
 
