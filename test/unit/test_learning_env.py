@@ -115,7 +115,12 @@ def test_the_vector_equals_single_environments_stepped_alike():
     assert restarts == 3, 'every episode was cut at 30 steps and started again'
 
 
-def test_pictures_are_the_viewers_scene():
+def test_pictures_are_the_viewers_scene(monkeypatch):
+    monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
+    window = gym.make('stdr_lite/Waypoints-v0', render_mode='human')
+    window.reset(seed=0)
+    assert window.render() is None
+    window.close()
     env = gym.make('stdr_lite/Waypoints-v0', render_mode='rgb_array')
     env.reset(seed=0)
     frame = env.render()
