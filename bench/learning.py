@@ -5,8 +5,8 @@ The scenario: the lab's room (20 m x 15 m, walls round it), the lab's robot (a 0
 unicycle) with a 64-ray laser over +-120 degrees reaching 4.09 m, stepped at 10 Hz with a
 random action each step, episodes starting again as they end. stdr_lite/Waypoints-v0 is made
 with gym.make (its wrappers included); the vector with 100 robots with gym.make_vec. IR-SIM
-(on PyPI as ir-sim, installed by this benchmark into a virtual environment of its own under
-bench/.irsim-venv, never into ours) runs the same room as four wall rectangles and the same
+(on PyPI as ir-sim, installed by this benchmark into a virtual environment of its own in the
+package's cache folder, never into ours) runs the same room as four wall rectangles and the same
 robot and laser, headless. Figures are the median of REPEATS runs of STEPS steps each, and
 the ratio is taken from those medians, measured one right after the other.
 """
@@ -28,7 +28,10 @@ VECTOR_STEPS = 300
 ROBOTS = 100
 REPEATS = 5
 IRSIM_STEPS = 300
-IRSIM_VENV = Path(__file__).resolve().parent / '.irsim-venv'
+# Beside the interface builds' cache (scripts/build_interfaces.sh), out of the work tree.
+IRSIM_VENV = Path(os.environ.get('SIMPLE_ROBOT_CONTROL_CACHE') or Path(
+    os.environ.get('XDG_CACHE_HOME') or Path.home() / '.cache') / 'simple_robot_control') / (
+    'irsim-venv')
 IRSIM_WORLD = """
 world: {height: 15, width: 20, step_time: 0.1, sample_time: 0.1, offset: [0, 0],
         collision_mode: stop, control_mode: auto}

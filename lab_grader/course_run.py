@@ -17,6 +17,7 @@ import threading
 import time
 import uuid
 
+from lab_grader.evidence import STATUS_TOPIC
 from lab_grader.supervision import Supervised
 from lab_grader.verdicts import ProcessOutcome
 import rclpy
@@ -36,7 +37,6 @@ from std_msgs.msg import String
 from waypoint_controller.status import parse_status
 
 PLACEHOLDER = '{waypoints}'
-STATUS_TOPIC = '/robot_status'
 # Everything the run is judged by is kept, however far behind the recorder falls (a lockstep
 # simulator runs as fast as the controller answers): nothing is dropped from the queue. Reliable
 # readers match the simulator's publishers and the lab's status publisher (rclpy's default,

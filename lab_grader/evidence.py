@@ -15,9 +15,9 @@ import os
 import numpy as np
 from simple_robot_control.bag_reading import BagMessages
 from simple_robot_control.pose import pose_from_message
+from waypoint_controller.run_bag import STATUS_TOPIC
 from waypoint_controller.status import parse_status, Status
 
-STATUS_TOPIC = '/robot_status'
 STRING = 'std_msgs/msg/String'
 ODOMETRY = 'nav_msgs/msg/Odometry'
 BOOL = 'std_msgs/msg/Bool'

@@ -167,7 +167,7 @@ class Grading:
         verdict = grade_course(course, result.outcome, result.bag, result.error,
                                self.options.robot_name)
         if self.options.report:
-            verdict.picture_problem = draw_course(verdict, self.options.robot_name)
+            verdict.picture_problem = draw_course(verdict)
         return verdict
 
 

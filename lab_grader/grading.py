@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from lab_grader.courses import Course
-from lab_grader.evidence import read_evidence
+from lab_grader.evidence import read_evidence, RunEvidence
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
 from simple_robot_control.bag_reading import BagReadError
 
@@ -29,6 +29,7 @@ class CourseVerdict:
     path_length: float | None = None
     folder: Path | None = None
     picture_problem: str = ''
+    evidence: RunEvidence | None = field(default=None, repr=False)
 
     @property
     def status(self) -> str:
@@ -68,14 +69,14 @@ class SubmissionVerdict:
 
 def grade_course(course: Course, outcome: ProcessOutcome, bag: Path, error: str = '',
                  robot_name: str = 'robot0') -> CourseVerdict:
-    """Judge a course's run from its bag and the submission's outcome."""
+    """Judge a course's run from its bag and the submission's outcome (and keep what it read)."""
     verdict = CourseVerdict(course, outcome=outcome, error=error, folder=bag.parent)
-    if error:
-        return verdict
     try:
-        evidence = read_evidence(bag, robot_name)
+        evidence = verdict.evidence = read_evidence(bag, robot_name)
     except BagReadError as problem:
-        verdict.error = f'the run cannot be judged: {problem}'
+        verdict.error = error or f'the run cannot be judged: {problem}'
+        return verdict
+    if error:
         return verdict
     if evidence.missing_steps:
         verdict.error = (f"the recorder lost {evidence.missing_steps} of the simulator's true "

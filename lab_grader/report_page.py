@@ -9,9 +9,7 @@ poses the submission reported in its WAYPOINT messages, drawn against that path.
 from datetime import datetime
 from pathlib import Path
 
-from lab_grader.evidence import read_evidence
 from lab_grader.reports import figures, MARKS, RULES, terminal_table
-from simple_robot_control.bag_reading import BagReadError
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot, RobotFileError
@@ -21,13 +19,12 @@ from waypoint_controller.run_record import RunRecord
 LAB_ROBOT_RADIUS = 0.2
 
 
-def draw_course(verdict, robot_name='robot0') -> str:
-    """Draw a course's run as run.png beside its bag; return why not, or ''."""
-    course, folder = verdict.course, verdict.folder
+def draw_course(verdict) -> str:
+    """Draw a judged course's run as run.png beside its bag; return why not, or ''."""
+    course, folder, evidence = verdict.course, verdict.folder, verdict.evidence
+    if evidence is None or not len(evidence.times):
+        return 'no true path was recorded'
     try:
-        evidence = read_evidence(folder / 'run.mcap', robot_name)
-        if not len(evidence.times):
-            return 'no true path was recorded'
         radius = (load_robot(course.robot_file, (shared_file(*BUNDLED_RESOURCES),)).radius
                   if course.robot_file else LAB_ROBOT_RADIUS)
         record = RunRecord(course.name, list(course.waypoints), course.distance_tolerance,
@@ -39,7 +36,7 @@ def draw_course(verdict, robot_name='robot0') -> str:
         render_run(record, occupancy_map, radius, folder / 'run.png',
                    f'{course.name}: {MARKS[verdict.status]}, the true path and the poses '
                    'reported')
-    except (BagReadError, MapError, RobotFileError, OSError, ValueError) as error:
+    except (MapError, RobotFileError, OSError, ValueError) as error:
         return f'no picture: {error}'
     return ''
 

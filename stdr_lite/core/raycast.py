@@ -139,36 +139,17 @@ def _cast_group(clearance, resolution, origin, diagonal, x, y, max_range, owner,
 
 
 @njit(cache=True)
-def cast_groups(clearance, resolution, origin, diagonal, group_starts, group_x, group_y,
-                group_range, group_owner, angles, circles, edges, edge_owners):
-    """
-    Return the distance along each ray to the first wall or body, inf beyond its max_range.
-
-    Rays come in groups sharing an origin, a max_range and an owner (a sensor's rays):
-    group g holds rays group_starts[g] to group_starts[g + 1], at the angles given. clearance
-    is the padded grid of sensors.RangeFinder, origin its (x, y, cos yaw, sin yaw); circles are
-    (x, y, radius) rows, a NaN radius meeting nothing; edges are (start x, start y, end x,
-    end y) rows. A group ignores the circle of index group_owner and the edges of that owner.
-    """
-    distances = np.empty(angles.size)
-    near_circles = np.empty(circles.shape[0], dtype=np.int64)
-    near_edges = np.empty(edges.shape[0], dtype=np.int64)
-    for group in range(group_starts.size - 1):
-        first, last = group_starts[group], group_starts[group + 1]
-        _cast_group(clearance, resolution, origin, diagonal, group_x[group], group_y[group],
-                    group_range[group], group_owner[group], 0.0, angles[first:last], circles,
-                    edges, edge_owners, near_circles, near_edges, distances[first:last])
-    return distances
-
-
-@njit(cache=True)
 def cast_mounted(clearance, resolution, origin, diagonal, poses, robots, mounts, group_starts,
                  relative, group_range, circles, edges, edge_owners):
     """
-    Cast the rays of sensors mounted on bodies, as cast_groups casts a group each.
+    Return the distance along each sensor's ray to the first wall or body, inf beyond range.
 
-    Sensor g is mounted at mounts[g] (x, y, theta in its body's frame) on body robots[g], whose
-    pose is a row of poses; its rays point at relative angles from its own heading.
+    Sensor g holds rays group_starts[g] to group_starts[g + 1]; it is mounted at mounts[g]
+    (x, y, theta in its body's frame) on body robots[g], whose pose is a row of poses, and its
+    rays point at relative angles from its own heading. clearance is the padded grid of
+    sensors.RangeFinder, origin its (x, y, cos yaw, sin yaw); circles are (x, y, radius) rows,
+    a NaN radius meeting nothing; edges are (start x, start y, end x, end y) rows. A sensor
+    ignores its own body's circle and edges.
     """
     distances = np.empty(relative.size)
     near_circles = np.empty(circles.shape[0], dtype=np.int64)

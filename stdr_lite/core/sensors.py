@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.collision import wall_distances
 from stdr_lite.core.footprints import placed
-from stdr_lite.core.raycast import cast_groups, cast_mounted
+from stdr_lite.core.raycast import cast_mounted
 from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 SONAR_RAYS = 9
@@ -50,41 +50,6 @@ class RangeFinder:
         inside *= self.resolution
         inside[occupancy_map.occupied] = -1.0
 
-    def cast(self, x: ArrayLike, y: ArrayLike, angle: ArrayLike, max_range: ArrayLike,
-             circles: tuple | None = None, edges: tuple | None = None) -> np.ndarray:
-        """
-        Return the distance along each ray to the first wall or body, inf beyond max_range.
-
-        x, y, angle and max_range broadcast to one value per ray; circles is (cx, cy, radius)
-        arrays plus, per ray, the index of a circle to ignore (the robot carrying the sensor),
-        or None; edges is (start_x, start_y, end_x, end_y, owner) arrays of polygon edges
-        plus, per ray, the owner whose edges it ignores, or None. Consecutive rays from one
-        origin with one range and one owner (a sensor's) are cast as a group.
-        """
-        x, y, angle, max_range = (np.array(value, dtype=float).ravel() for value in
-                                  np.broadcast_arrays(x, y, angle, max_range))
-        owner = np.full(x.size, -1, dtype=np.int64)
-        circle_rows = np.zeros((0, 3))
-        if circles is not None:
-            circle_rows = np.column_stack([np.asarray(part, dtype=float)
-                                           for part in circles[:3]]).reshape(-1, 3)
-            if circles[3] is not None:
-                owner = np.broadcast_to(np.asarray(circles[3], dtype=np.int64), x.shape)
-        edge_rows, edge_owners = np.zeros((0, 4)), np.zeros(0, dtype=np.int64)
-        if edges is not None:
-            edge_rows = np.column_stack([np.asarray(part, dtype=float)
-                                         for part in edges[:4]]).reshape(-1, 4)
-            edge_owners = np.asarray(edges[4], dtype=np.int64)
-            owner = np.broadcast_to(np.asarray(edges[5], dtype=np.int64), x.shape)
-        if not x.size:
-            return np.zeros(0)
-        changes = np.flatnonzero((np.diff(x) != 0.0) | (np.diff(y) != 0.0)
-                                 | (np.diff(max_range) != 0.0) | (np.diff(owner) != 0)) + 1
-        firsts = np.concatenate([[0], changes])
-        return self.cast_groups(np.append(firsts, x.size), x[firsts], y[firsts],
-                                max_range[firsts], owner[firsts], angle, circle_rows, edge_rows,
-                                edge_owners)
-
     def cast_mounted(self, poses: np.ndarray, robots: np.ndarray, mounts: np.ndarray,
                      group_starts: np.ndarray, relative: np.ndarray, max_range: np.ndarray,
                      circles: np.ndarray, edges: np.ndarray,
@@ -93,15 +58,6 @@ class RangeFinder:
         return cast_mounted(self._clearance, self.resolution, self._origin, self._diagonal,
                             np.ascontiguousarray(poses, dtype=float), robots, mounts,
                             group_starts, relative, max_range, circles, edges, edge_owners)
-
-    def cast_groups(self, group_starts: np.ndarray, x: np.ndarray, y: np.ndarray,
-                    max_range: np.ndarray, owner: np.ndarray, angle: np.ndarray,
-                    circles: np.ndarray, edges: np.ndarray,
-                    edge_owners: np.ndarray) -> np.ndarray:
-        """Cast rays in groups from one origin each (raycast.cast_groups says how)."""
-        return cast_groups(self._clearance, self.resolution, self._origin, self._diagonal,
-                           group_starts, x, y, max_range, np.ascontiguousarray(owner), angle,
-                           circles, edges, edge_owners)
 
 
 def sensor_origin(robot_pose: tuple, sensor_pose: tuple) -> tuple[float, float, float]:

@@ -4,18 +4,16 @@ A policy learned in process, driving a robot of a live stdr_lite through ROS, un
 PolicyController is a node: from the robot's odometry and laser it builds the observation a
 WaypointsEnv would give (course.observe), asks the policy (any callable: observation ->
 (linear m/s, angular rad/s)) for an action at the environment's rate, sends it as cmd_vel, and
-reports on robot_status as the lab asks (STARTED, WAYPOINT n, FINISHED), so that grade_lab can
+reports on robot_status as the lab asks (STARTED, WAYPOINT n, FINISHED, in the texts and with the
+QoS of waypoint_controller's own), so that grade_lab can
 grade it as it grades a student's controller. The laser's rays are taken at the environment's
 angles (the nearest ray of the scan to each): a scan of the same rays gives the same
 observation to the bit.
 """
 
-import math
-
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 import numpy as np
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.guarded_node import GuardedNode
@@ -24,9 +22,8 @@ from std_msgs.msg import String
 from stdr_lite.core.sensors import relative_angles
 from stdr_lite.learning.arena import laser_robot
 from stdr_lite.learning.course import Courses, observe, TaskSettings
-
-STATUS_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
-                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
+from waypoint_controller import status
+from waypoint_controller.course import status_qos, STATUS_TOPIC
 
 
 def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
@@ -61,7 +58,8 @@ class PolicyController(GuardedNode):
         self._pose = self._scan = None
         self._started = False
         self._command = self.create_publisher(Twist, f'{robot_name}/cmd_vel', 10)
-        self._status = self.create_publisher(String, 'robot_status', STATUS_QOS)
+        self._status = self.create_publisher(String, STATUS_TOPIC,
+                                             status_qos(len(self._courses.waypoints[0])))
         self.create_subscription(Odometry, f'{robot_name}/odom', self._on_odometry, 10)
         self.create_subscription(LaserScan, f'{robot_name}/{laser}', self._on_scan, 10)
         self.create_timer(1.0 / rate_hz, self._act)
@@ -76,10 +74,6 @@ class PolicyController(GuardedNode):
         self._status.publish(String(data=text))
         self.get_logger().info(text)
 
-    def _pose_text(self):
-        x, y, theta = self._pose
-        return f'{x:.3f} {y:.3f} {math.degrees(theta):.2f}'
-
     def _act(self):
         if self._pose is None or self._scan is None or self.finished.done():
             return
@@ -87,13 +81,13 @@ class PolicyController(GuardedNode):
         if not self._started:
             self._started = True
             self._courses.start(poses)
-            self._say(f'STARTED {self._pose_text()}')
+            self._say(status.started(tuple(self._pose)))
         _, reached, finished = self._courses.update(poses, np.zeros(1, dtype=bool))
         if reached[0]:
-            self._say(f'WAYPOINT {self._courses.next[0]} {self._pose_text()}')
+            self._say(status.waypoint_reached(int(self._courses.next[0]), tuple(self._pose)))
         if finished[0]:
             self._command.publish(Twist())
-            self._say('FINISHED')
+            self._say(status.finished())
             self.finished.set_result(0)
             return
         ranges = scan_at(self._scan, self._angles)[None, :]

@@ -15,6 +15,7 @@ import math
 import os
 import signal
 import sys
+import threading
 import time
 
 from nav_msgs.msg import Odometry
@@ -64,8 +65,7 @@ def main(behaviour, waypoint_file):
     x, y, theta = poses[-1]
     say('STARTED', x, y, theta)
     if behaviour == 'hang':
-        while True:
-            time.sleep(1.0)
+        threading.Event().wait()
     for number, waypoint in enumerate(read_waypoints(waypoint_file), start=1):
         spin_for(node, 0.2)
         reported = {'early': waypoint, 'off10': (x + 0.1, y, theta)}.get(behaviour, (x, y, theta))
@@ -77,7 +77,7 @@ def main(behaviour, waypoint_file):
             rclpy.spin_once(node, timeout_sec=0.1)
     if behaviour == 'fork' and os.fork() == 0:
         os.setsid()
-        time.sleep(600)
+        signal.pause()
         os._exit(0)
     spin_for(node, 1.0)
     node.destroy_node()

@@ -28,9 +28,9 @@ def test_claims_differ_until_released(three_domains):
 def test_a_domain_held_by_another_process_or_in_the_environment_is_avoided(
         three_domains, monkeypatch):
     holder = subprocess.Popen(
-        [sys.executable, '-c', 'import fcntl, os, sys, time; '
+        [sys.executable, '-c', 'import fcntl, os, signal; '
          f'fd = os.open({str(domains.LOCK_FOLDER / "8.lock")!r}, os.O_RDWR | os.O_CREAT); '
-         'fcntl.flock(fd, fcntl.LOCK_EX); print("held", flush=True); time.sleep(60)'],
+         'fcntl.flock(fd, fcntl.LOCK_EX); print("held", flush=True); signal.pause()'],
         stdout=subprocess.PIPE, text=True)
     try:
         domains.LOCK_FOLDER.mkdir()
@@ -50,7 +50,7 @@ def test_a_child_process_does_not_keep_the_domain(three_domains):
     """A child that inherited the lock would hold the domain after its parent let it go."""
     claims = [claim_domain() for _ in range(3)]
     child = subprocess.Popen([sys.executable, '-c', 'print("started", flush=True); '
-                              'import time; time.sleep(60)'], close_fds=False,
+                              'import signal; signal.pause()'], close_fds=False,
                              stdout=subprocess.PIPE, text=True)
     try:
         assert child.stdout.readline() == 'started\n'

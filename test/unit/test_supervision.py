@@ -1,10 +1,10 @@
 """Commands stopped whatever they do: ignore Ctrl-C, fork into a session of their own, flood."""
 
 import sys
-import time
 
 from lab_grader import supervision
 from lab_grader.supervision import marked, Supervised
+from processes import wait_until
 import pytest
 
 
@@ -17,16 +17,14 @@ def short_graces(monkeypatch):
 def python(folder, code):
     """Start python -c code in folder, marked after it, once it has said it is ready."""
     folder.mkdir(exist_ok=True)
-    command = Supervised([sys.executable, '-c', 'import os, signal, sys, time\n' + code],
+    command = Supervised([sys.executable, '-c', 'import os, signal, sys\n' + code],
                          str(folder), folder / 'output.txt')
-    deadline = time.monotonic() + 20
-    while 'ready' not in command.last_lines and time.monotonic() < deadline:
-        time.sleep(0.02)
+    wait_until(lambda: 'ready' in command.last_lines, f'{folder.name} ready')
     return command
 
 
 def test_ctrl_c_first(tmp_path):
-    command = python(tmp_path, 'print("ready", flush=True)\ntime.sleep(60)')
+    command = python(tmp_path, 'print("ready", flush=True)\nsignal.pause()')
     ended_by, seconds, leftovers = command.stop()
     assert (ended_by, leftovers) == ('SIGINT', []) and seconds < 1.0
     assert command.exit_code == -2 and not command.running
@@ -35,19 +33,18 @@ def test_ctrl_c_first(tmp_path):
 
 def test_a_command_ignoring_ctrl_c_ends_by_sigterm_and_one_ignoring_both_by_sigkill(tmp_path):
     stubborn = python(tmp_path / 'a', 'signal.signal(signal.SIGINT, signal.SIG_IGN)\n'
-                      'print("ready", flush=True)\ntime.sleep(60)')
+                      'print("ready", flush=True)\nsignal.pause()')
     assert stubborn.stop()[0] == 'SIGTERM'
     deaf = python(tmp_path / 'b', 'signal.signal(signal.SIGINT, signal.SIG_IGN)\n'
                   'signal.signal(signal.SIGTERM, signal.SIG_IGN)\n'
-                  'print("ready", flush=True)\ntime.sleep(60)')
+                  'print("ready", flush=True)\nsignal.pause()')
     assert deaf.stop()[0] == 'SIGKILL' and deaf.exit_code == -9
 
 
 def test_a_child_in_a_session_of_its_own_is_found_and_stopped(tmp_path):
-    command = python(tmp_path, 'if os.fork() == 0:\n    os.setsid()\n    time.sleep(60)\n'
+    command = python(tmp_path, 'if os.fork() == 0:\n    os.setsid()\n    signal.pause()\n'
                      '    os._exit(0)\nprint("ready", flush=True)')
-    while command.running:
-        time.sleep(0.02)
+    wait_until(lambda: not command.running, 'the command ending by itself')
     assert command.exit_code == 0
     left = marked(command.marker)
     assert len(left) == 1 and left[0].pid != command.process.pid
@@ -59,8 +56,7 @@ def test_a_child_in_a_session_of_its_own_is_found_and_stopped(tmp_path):
 def test_output_is_kept_bounded_with_its_last_lines(tmp_path):
     command = python(tmp_path, 'for n in range(40000): print("x" * 60, n)\nprint("the end")\n'
                      'print("ready")')
-    while command.running:
-        time.sleep(0.02)
+    wait_until(lambda: not command.running, 'the command ending by itself')
     command.stop()
     output = (tmp_path / 'output.txt').read_bytes()
     assert len(output) < (1 << 20) + 100 and output.endswith(b'[output cut short at 1 MB]\n')
