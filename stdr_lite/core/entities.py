@@ -1,12 +1,16 @@
 """What the simulation holds besides the World's arrays: its entities and their schedules."""
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import enum
 
 from stdr_lite.core.odometry import OdometryNoise
-from stdr_lite.core.robot_description import RobotDescription
+from stdr_lite.core.robot_description import Noise, RobotDescription
 
 NANOSECONDS = 1_000_000_000
+# Whose described sensor noise is applied: 'auto' reads a file in STDR's layouts (XML, nested
+# YAML) as STDR does, which never applies its files' noise, and applies the flat layout's (the
+# bundled robots'); 'all' applies every file's; 'none' no file's.
+SENSOR_NOISE_MODES = ('auto', 'all', 'none')
 
 
 class RequestError(ValueError):
@@ -31,9 +35,9 @@ class SimulationSettings:
     How the world is stepped and measured; SI units.
 
     odom_rate_hz 0 is every step; a speed limit of 0 is none, as in STDR (commands.py keeps a
-    safety bound); sensor_noise False reads every sensor without its described noise, as STDR
-    does; bodies_meet False lets bodies pass through each other unseen, each meeting only the
-    walls (side-by-side independent episodes).
+    safety bound); sensor_noise is one of SENSOR_NOISE_MODES; bodies_meet False lets bodies
+    pass through each other unseen, each meeting only the walls (side-by-side independent
+    episodes).
     """
 
     rate_hz: float = 50.0
@@ -42,12 +46,33 @@ class SimulationSettings:
     max_angular_speed: float = 0.0
     cmd_vel_timeout: float = 0.0
     sensor_seed: int = 0
-    sensor_noise: bool = True
+    sensor_noise: str = 'auto'
     odom_rate_hz: float = 0.0
     odometry_noise: OdometryNoise = OdometryNoise()
     odom_seed: int = 0
     motion_seed: int = 0
     bodies_meet: bool = True
+
+    def __post_init__(self):
+        if self.sensor_noise not in SENSOR_NOISE_MODES:
+            raise ValueError(f'sensor_noise must be one of {", ".join(SENSOR_NOISE_MODES)}, '
+                             f'got {self.sensor_noise!r}')
+
+    def applies_sensor_noise(self, description: RobotDescription) -> bool:
+        """Whether a robot of this description reads with the noise its file describes."""
+        return self.sensor_noise == 'all' or (self.sensor_noise == 'auto'
+                                              and not description.stdr_layout)
+
+    def sensor_noise_note(self, description: RobotDescription) -> str:
+        """Say whether a robot's described sensor noise is applied, and why; '' if it has none."""
+        if not description.has_sensor_noise:
+            return ''
+        if self.applies_sensor_noise(description):
+            return 'sensor noise as its file describes'
+        if self.sensor_noise == 'none':
+            return "its file's sensor noise not applied (sensor_noise none)"
+        return ("its file's sensor noise not applied, as STDR reads its layout (sensor_noise "
+                'all applies it)')
 
 
 class PeriodicSchedule:
@@ -107,10 +132,16 @@ class SimulatedEntity:
         return self.description.points or None if self.description is not None else None
 
 
-def sensors_of(description: RobotDescription, now_ns: int) -> list[ScheduledSensor]:
-    """Return a description's lasers and sonars, each first due one period after now_ns."""
+def sensors_of(description: RobotDescription, now_ns: int,
+               noisy: bool = True) -> list[ScheduledSensor]:
+    """
+    Return a description's lasers and sonars, each first due one period after now_ns.
+
+    Unless noisy, they read without the noise the description gives them.
+    """
     sensors = []
     for spec in description.lasers + description.sonars:
+        spec = spec if noisy else replace(spec, noise=Noise())
         period_ns = round(NANOSECONDS / spec.frequency)
         sensors.append(ScheduledSensor(spec, PeriodicSchedule(period_ns, now_ns + period_ns)))
     return sensors

@@ -118,7 +118,8 @@ class RobotDescription:
     A robot's footprint, sensors and kinematics.
 
     radius is the footprint's: the circle's, or for a polygon (points, in the robot's frame)
-    the distance from the robot's centre to its farthest corner.
+    the distance from the robot's centre to its farthest corner. stdr_layout says the file was
+    in one of STDR's layouts (XML, nested YAML), whose noise fields STDR itself never applies.
     """
 
     radius: float
@@ -128,13 +129,11 @@ class RobotDescription:
     points: tuple = ()
     kinematic: Kinematic = Kinematic()
     unsimulated: tuple = ()
+    stdr_layout: bool = False
 
-
-def without_sensor_noise(description: RobotDescription) -> RobotDescription:
-    """Return the description with every laser and sonar noiseless, as STDR reads them."""
-    return replace(description,
-                   lasers=tuple(replace(spec, noise=Noise()) for spec in description.lasers),
-                   sonars=tuple(replace(spec, noise=Noise()) for spec in description.sonars))
+    @property
+    def has_sensor_noise(self) -> bool:
+        return any(spec.noise != Noise() for spec in self.lasers + self.sonars)
 
 
 def load_robot(path: str | os.PathLike, search_path: tuple = ()) -> RobotDescription:
@@ -151,20 +150,22 @@ def parse_robot_text(text: str, source: str, search_path: tuple = (),
         return robot_from_yaml(parse_yaml(text, source, 'robot file', RobotFileError), source,
                                search_path, in_file)
     try:
-        return parse_robot(flat_from_xml(text, source, search_path, in_file), source)
+        flat = flat_from_xml(text, source, search_path, in_file)
     except StdrFileError as error:
         raise RobotFileError(str(error)) from None
+    return replace(parse_robot(flat, source), stdr_layout=True)
 
 
 def robot_from_yaml(data: object, source: str, search_path: tuple = (),
                     in_file: bool = False) -> RobotDescription:
     """Check a robot read from YAML, in STDR's nested layout or the flat one."""
+    stdr_layout = is_stdr_layout(data)
     try:
-        if is_stdr_layout(data):
+        if stdr_layout:
             data = flat_from_yaml(data, source, search_path, in_file)
     except StdrFileError as error:
         raise RobotFileError(str(error)) from None
-    return parse_robot(data, source)
+    return replace(parse_robot(data, source), stdr_layout=stdr_layout)
 
 
 def parse_robot(data: object, source: str = '<robot>') -> RobotDescription:

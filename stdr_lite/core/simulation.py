@@ -26,7 +26,7 @@ from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECO
 from stdr_lite.core.motion import motion_for, noisy_command
 from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.queries import SimulationQueries
-from stdr_lite.core.robot_description import RobotEntry, without_sensor_noise
+from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.terrain import survey, Terrain
 from stdr_lite.core.world import FEW_BODIES, PlacementError, World
 
@@ -118,8 +118,6 @@ class Simulation(SimulationQueries):
         either way nothing changes.
         """
         self._check_new_name(entry.name)
-        if not self.settings.sensor_noise:
-            entry = replace(entry, description=without_sensor_noise(entry.description))
         namespace = namespace.strip('/') or entry.name
         if not all(is_ros_name(token) for token in namespace.split('/')):
             raise NamespaceError(f'namespace {shorten(repr(namespace))} is not a ROS namespace')
@@ -133,7 +131,9 @@ class Simulation(SimulationQueries):
                                    f'{compact(self.settings.rate_hz)})')
         self._append(SimulatedEntity(entry.name, Category.ROBOT, entry.description.radius,
                                      entry.pose, spawned, entry.description, namespace,
-                                     sensors_of(entry.description, self.time_ns),
+                                     sensors_of(entry.description, self.time_ns,
+                                                self.settings.applies_sensor_noise(
+                                                    entry.description)),
                                      self._motion_noise(entry.name, entry.description)))
 
     def _motion_noise(self, name, description):

@@ -39,13 +39,14 @@ class Arena:
                  bodies_meet: bool = True):
         self.task = task
         description = laser_robot(robot, task.laser_rays)
-        settings = SimulationSettings(rate_hz=rate_hz, sensor_noise=sensor_noise,
+        settings = SimulationSettings(rate_hz=rate_hz,
+                                      sensor_noise='auto' if sensor_noise else 'none',
                                       bodies_meet=bodies_meet)
         self.world = load_world(map_name, [RobotEntry(f'robot{index}', description, LAB_START)
                                            for index in range(count)], settings)
         self.names = self.world.robot_names
-        # The laser as the world holds it: without its noise if sensor_noise is off.
-        self.laser = self.world.robot(self.names[0]).description.lasers[0]
+        # The laser as the world reads it: without its noise where none is applied.
+        self.laser = self.world.robot(self.names[0]).sensors[0].spec
         self.courses = Courses(np.zeros((count, task.waypoints, 3)), task)
         self._clearance = task.clearance + description.radius
         self.ranges = np.full((count, task.laser_rays), np.inf)

@@ -110,7 +110,7 @@ class EntityServices:
                 self._check_names(namespace.strip('/') or name, spec, bool(namespace))
                 self._simulation.add_robot(RobotEntry(name, spec, start), spawned=True,
                                            namespace=namespace)
-                self._node.note_unsimulated(name, spec)
+                self._node.note_description(name, spec)
             elif namespace:
                 raise Refusal(SpawnResult.NAMESPACE_INVALID, 'an obstacle has no topics to '
                               'put under a namespace')
@@ -197,7 +197,8 @@ class EntityServices:
     def _info(self, request, response):
         entity = self._entity(request.entity)
         response.info = EntityInfo(category=EntityCategory(category=CATEGORIES[entity.category]),
-                                   description=_description(entity), tags=_tags(entity))
+                                   description=_description(entity, self._simulation.settings),
+                                   tags=_tags(entity))
 
     def _get_state(self, request, response):
         self._entity(request.entity)
@@ -300,7 +301,7 @@ def _tags(entity):
         ['spawned'] if entity.spawned else [])
 
 
-def _description(entity):
+def _description(entity, settings):
     if not entity.is_robot:
         return f'{entity.category.value} of radius {compact(entity.radius)} m'
     sensors = ', '.join(sensor.spec.frame_id for sensor in entity.sensors) or 'no sensors'
@@ -308,7 +309,9 @@ def _description(entity):
              else f'of {len(entity.shape)} corners (within {compact(entity.radius)} m)')
     kinematic = entity.description.kinematic
     kind = 'omni-directional robot' if kinematic.model == 'omni' else 'robot'
-    noise = ', noisy motion' if kinematic.noisy else ''
+    noise = ''.join(f', {note}' for note in (
+        'noisy motion' if kinematic.noisy else '',
+        settings.sensor_noise_note(entity.description)) if note)
     return f'{kind} {shape} with {sensors}{noise}; topics under /{entity.namespace}'
 
 

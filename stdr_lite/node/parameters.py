@@ -9,6 +9,7 @@ from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.share import BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
 from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
+from stdr_lite.core.entities import SENSOR_NOISE_MODES
 from stdr_lite.core.kinematics import INTEGRATORS
 from stdr_lite.core.loading import load_world
 from stdr_lite.core.odometry import OdometryNoise
@@ -64,9 +65,11 @@ PARAMETERS = (
                   Bounds(0.0, 3600.0)),
     ParameterSpec('sensor_seed', 0, 'seed of the sensor noise, so that runs repeat',
                   NON_NEGATIVE),
-    ParameterSpec('sensor_noise', True, "add each sensor's described noise to its readings; "
-                  "false reads them without, as STDR does (its robot files' noise is never "
-                  'applied by STDR)'),
+    ParameterSpec('sensor_noise', 'auto', "whose described sensor noise is applied: 'auto' "
+                  "reads a robot file in STDR's layouts (XML, nested YAML) as STDR does, without "
+                  "its noise (STDR never applies it), and applies the flat layout's (the bundled "
+                  "lab_robot's); 'all' applies every file's noise; 'none' no file's",
+                  choices=SENSOR_NOISE_MODES),
     ParameterSpec('motion_seed', 0, "seed of the robots' motion noise (a robot file's "
                   'kinematic parameters), so that runs repeat', NON_NEGATIVE),
     ParameterSpec('odom_rate_hz', 0.0, 'odometry, ground truth and TF published this often '

@@ -68,7 +68,7 @@ class StdrLite(GuardedNode):
                 raise ConfigError(f'robot {shorten(name)}: {problem}') from None
         self._noted = set()
         for name in self.simulation.robot_names:
-            self.note_unsimulated(name, self.simulation.robot(name).description)
+            self.note_description(name, self.simulation.robot(name).description)
         self.requests = RequestQueue(self)
         self._stamped = params['cmd_vel_stamped']
         self._optional_topics = params['optional_topics']
@@ -165,12 +165,17 @@ class StdrLite(GuardedNode):
         self._publish_state()
         self._frame_publisher.obstacles_moved()
 
-    def note_unsimulated(self, name, description):
-        """Log, once per robot file, the sensors it has that stdr_lite does not simulate."""
-        if description.unsimulated and description not in self._noted:
-            self._noted.add(description)
+    def note_description(self, name, description):
+        """Log, once per robot file, what it has unsimulated and whether its noise applies."""
+        if description in self._noted:
+            return
+        self._noted.add(description)
+        if description.unsimulated:
             self.get_logger().warn(f'robot {shorten(name)}: not simulated (stdr_lite has no such '
                                    f'sensors; kept by name): {", ".join(description.unsimulated)}')
+        note = self.simulation.settings.sensor_noise_note(description)
+        if note:
+            self.get_logger().info(f'robot {shorten(name)}: {note}')
 
     def quit_soon(self):
         """End the node once the answer that asked for it has gone out."""

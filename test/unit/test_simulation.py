@@ -7,8 +7,8 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map
-from stdr_lite.core.robot_description import (LaserSpec, Noise, RobotDescription, RobotEntry,
-                                              SonarSpec)
+from stdr_lite.core.robot_description import (LaserSpec, Noise, parse_robot_text,
+                                              RobotDescription, RobotEntry, SonarSpec)
 from stdr_lite.core.simulation import CommandOutcome, RequestError, Simulation, SimulationSettings
 from stdr_lite.core.world import PlacementError
 
@@ -270,18 +270,48 @@ def test_a_new_map_keeps_the_start_robots_or_refuses_whole(room, tmp_path):
     assert simulation.occupancy_map is other and simulation.pose('a') == (2.0, 2.0, 0.0)
 
 
-def test_sensor_noise_off_reads_as_stdr_does(room):
-    noisy = replace(LASER, noise=Noise(0.5, 0.05))
-    description = RobotDescription(0.2, (0.0, 0.0, 0.0), (noisy,))
-    readings = {}
-    for setting in (True, False):
-        simulation = Simulation(room, SimulationSettings(sensor_noise=setting),
-                                [robot('a', 2.0, description=description)])
-        readings[setting], = simulation.read_sensors([('a', simulation.robot('a').sensors[0]
-                                                       .spec)])
+# A Hokuyo laser as STDR's own files describe it (mean 0.5 m, std 0.05 m), in STDR's XML.
+STDR_HOKUYO_ROBOT = """<robot><robot_specifications>
+  <footprint><footprint_specifications><radius>0.2</radius></footprint_specifications></footprint>
+  <laser><laser_specifications>
+    <max_angle>1</max_angle><min_angle>-1</min_angle><max_range>4</max_range>
+    <min_range>0.05</min_range><num_rays>5</num_rays><frequency>10</frequency>
+    <pose><x>0.1</x><y>0</y><theta>0</theta></pose>
+    <noise><noise_specifications><noise_mean>0.5</noise_mean><noise_std>0.05</noise_std>
+    </noise_specifications></noise>
+  </laser_specifications></laser>
+</robot_specifications></robot>"""
+
+
+def first_laser_reading(room, settings, description):
+    simulation = Simulation(room, settings, [robot('a', 2.0, description=description)])
+    readings, = simulation.read_sensors([('a', simulation.robot('a').sensors[0].spec)])
+    return readings
+
+
+@pytest.mark.parametrize('mode, stdr_noisy, flat_noisy', [
+    ('auto', False, True), ('all', True, True), ('none', False, False)])
+def test_stdr_files_read_as_under_stdr_unless_all_noise_is_asked(
+        room, mode, stdr_noisy, flat_noisy):
+    stdr_file = parse_robot_text(STDR_HOKUYO_ROBOT, 'hokuyo_robot.xml')
+    assert stdr_file.stdr_layout and stdr_file.lasers[0].noise == Noise(0.5, 0.05)
+    flat_file = replace(stdr_file, stdr_layout=False)
     exact = Simulation(room, robots=[robot('a', 2.0, description=SENSING)])
     clean, _ = exact.read_sensors([('a', LASER), ('a', SONAR)])
-    assert list(readings[False]) == list(clean)
     returns = np.isfinite(clean)
     assert returns.any()
-    assert (readings[True][returns] - clean[returns]) == pytest.approx(0.5, abs=0.25)
+    settings = SimulationSettings(sensor_noise=mode)
+    for description, noisy in ((stdr_file, stdr_noisy), (flat_file, flat_noisy)):
+        readings = first_laser_reading(room, settings, description)
+        if noisy:
+            assert (readings[returns] - clean[returns]) == pytest.approx(0.5, abs=0.25)
+            assert settings.sensor_noise_note(description) == (
+                'sensor noise as its file describes')
+        else:
+            assert list(readings) == list(clean)
+            assert "file's sensor noise not applied" in settings.sensor_noise_note(description)
+
+
+def test_the_sensor_noise_mode_is_checked():
+    with pytest.raises(ValueError, match='sensor_noise must be one of auto, all, none'):
+        SimulationSettings(sensor_noise=True)

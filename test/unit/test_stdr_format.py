@@ -6,6 +6,7 @@ robot like STDR's pandora (a laser, five sonars, one mounted past pi), given onc
 nested and once as XML that includes its sensors from a resource folder laid out as STDR's.
 """
 
+from dataclasses import replace
 import math
 
 import pytest
@@ -95,8 +96,9 @@ XML_ROBOT = """<robot>
 
 
 def wrapped(description):
-    """Return the flat robot as it loads, to compare with the same values in other layouts."""
-    return parse_robot(yaml.safe_load(yaml.safe_dump(description)), 'flat.yaml')
+    """Return the flat robot as it loads from STDR's layouts, which are marked as theirs."""
+    return replace(parse_robot(yaml.safe_load(yaml.safe_dump(description)), 'flat.yaml'),
+                   stdr_layout=True)
 
 
 @pytest.fixture
