@@ -14,16 +14,18 @@ def load_robot_list(path: str | os.PathLike, default_description: RobotDescripti
     """
     Read a robot list: {robots: [{name, description, pose}, ...]}.
 
-    name defaults to robot<K> (K its position in the list), description (a robot file in any
-    layout, relative to the list's folder) to default_description, and pose [x, y, theta] to
-    the description's initial_pose. search_path is where robot files' includes are looked for.
+    An empty list is an empty world, where robots may be spawned later. name defaults to
+    robot<K> (K its position in the list), description (a robot file in any layout, relative to
+    the list's folder) to default_description, and pose [x, y, theta] to the description's
+    initial_pose. search_path is where robot files' includes are looked for.
     """
     path = os.fspath(path)
     data = read_yaml(path, 'robot list', RobotFileError, MAX_LIST_BYTES)
     reader = FieldReader(path)
-    robots = reader.sequence(reader.mapping(data, ''), 'robots', '')
-    if not robots:
-        reader.fail('robots', 'the list is empty')
+    data = reader.mapping(data, '')
+    if 'robots' not in data:
+        reader.fail('robots', 'missing (a world that starts empty says robots: [])')
+    robots = reader.sequence(data, 'robots', '')
     entries = [robot_entry(item, f'robot{index}', default_description, path,
                            os.path.dirname(path), f'robots[{index}]', search_path)
                for index, item in enumerate(robots)]

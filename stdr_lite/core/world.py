@@ -168,8 +168,8 @@ class World:
             moves.append(still or self.checker.clear_for_motion_one(x, y, abs(v) * dt, radius)
                          or not self._wall_blocks_one(index, (x, y, direction, v, bend, theta,
                                                               omega), dt))
-        moves = np.array(moves)
-        new_poses = np.array(ends)
+        moves = np.array(moves, dtype=bool)
+        new_poses = np.array(ends, dtype=float).reshape(-1, 3)
         if self.robot_count > 1 and self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
                                          moves & self._changes_footprint(speed, angular))

@@ -42,11 +42,13 @@ class HealthWatch:
         achieved = (sim_time - self._since[1]) / max(now - self._since[0], 1e-9)
         self._since = (now, sim_time)
         if self._target > 0.0 and self._playing() and achieved < BEHIND * self._target:
+            count = len(self._simulation.names)
+            remedy = ('lower rate_hz or the robot count, or use lockstep' if count
+                      else 'lower rate_hz or real_time_factor')
             self._node.get_logger().warn(
                 f'running at {achieved:.2f}x real time, behind real_time_factor '
-                f'{self._target:g} with {len(self._simulation.names)} robots: this machine '
-                'cannot keep up; lower rate_hz or the robot count, or use lockstep',
-                throttle_duration_sec=WARN_EVERY)
+                f'{self._target:g} with {count or "no"} entities: this machine cannot keep up; '
+                f'{remedy}', throttle_duration_sec=WARN_EVERY)
 
     def _check_publishers(self):
         """Warn when a robot's cmd_vel has publishers in more than one node."""

@@ -100,6 +100,7 @@ class StdrLite(GuardedNode):
         names = self.simulation.names
         robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in self.simulation.pose(name))}'
                             for name in names) if len(names) <= 5 else f'{len(names)} robots')
+        robots = robots or 'no robots'
         modes = ''.join(f', {mode}' for mode in ('lockstep', 'paused') if params[mode])
         self.get_logger().info(
             f'{self.simulation.occupancy_map.source} {self.simulation.occupancy_map.width}x'

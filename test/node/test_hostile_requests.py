@@ -13,9 +13,9 @@ from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_for, spin_u
 from rosgraph_msgs.msg import Clock
 from simulation_interfaces.msg import (Bounds, EntityFilters, Result, SimulationState,
                                        SpawnResult)
-from simulation_interfaces.srv import (GetAvailableWorlds, GetEntities, GetSpawnables,
-                                       LoadWorld, SetSimulationState, SpawnEntity,
-                                       StepSimulation)
+from simulation_interfaces.srv import (DeleteEntity, GetAvailableWorlds, GetEntities,
+                                       GetSimulationState, GetSpawnables, LoadWorld,
+                                       SetSimulationState, SpawnEntity, StepSimulation)
 from stdr_lite.node.naming import MAX_TOPIC_LENGTH
 from stdr_lite.node.stdr_lite import StdrLite
 
@@ -228,3 +228,20 @@ def test_initialpose_takes_planar_quaternions_only(world, executor, orientation,
     mover.publish(message)
     spin_for(executor, 0.3)
     assert simulator.simulation.pose('robot0') == pytest.approx(expected)
+
+
+def test_an_empty_world_keeps_its_clock_and_answers(world, executor):
+    simulator, watch, call = world
+    assert call(DeleteEntity, 'delete_entity', entity='robot0').result.result == OK
+    assert simulator.simulation.names == []
+    since, stamp = time.monotonic(), watch.stamps[-1]
+    spin_until(executor, lambda: watch.stamps[-1] >= stamp + 1_000_000_000,
+               what='a simulated second with no entity')
+    assert 1e9 / (time.monotonic() - since) > 0.5e9, 'the clock slowed down'
+    assert call(GetEntities, 'get_entities').entities == []
+    assert call(GetSimulationState, 'get_simulation_state').state.state == (
+        SimulationState.STATE_PLAYING)
+    assert call(StepSimulation, 'step_simulation', steps=3).result.result != OK  # playing
+    assert spawn(call, 'again', uri='lab_robot').result == OK
+    assert simulator.simulation.names == ['again']
+    assert_still_stepping(executor, watch)

@@ -44,8 +44,14 @@ def test_listed_robot_files_find_their_includes_on_the_search_path(tmp_path):
     assert len(entry.description.points) == 4
 
 
+def test_an_empty_robot_list_is_an_empty_world(tmp_path):
+    robots = tmp_path / 'robots.yaml'
+    robots.write_text('robots: []\n')
+    assert load_robot_list(robots, load_robot(shared_file(*BUNDLED_ROBOT))) == []
+
+
 @pytest.mark.parametrize('text, message', [
-    ('robots: []\n', 'robots: the list is empty'),
+    ('robot: []\n', 'robots: missing (a world that starts empty says robots: [])'),
     ('robots:\n  - {name: a}\n  - {name: a}\n', 'names must be unique; repeated: a'),
     ('robots:\n  - {pose: [1, 2]}\n', 'robots[0].pose: expected [x, y, theta]'),
     ('robots:\n  - {speed: 3}\n', "robots[0]: unknown keys ['speed']"),

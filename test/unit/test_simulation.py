@@ -315,3 +315,16 @@ def test_stdr_files_read_as_under_stdr_unless_all_noise_is_asked(
 def test_the_sensor_noise_mode_is_checked():
     with pytest.raises(ValueError, match='sensor_noise must be one of auto, all, none'):
         SimulationSettings(sensor_noise=True)
+
+
+def test_a_world_with_no_entity_steps_and_keeps_its_clock(room):
+    simulation = Simulation(room, robots=[robot('a', 2.0, description=SENSING)])
+    simulation.remove('a')
+    for _ in range(10):
+        simulation.step()
+    assert simulation.names == [] and simulation.sim_time == pytest.approx(0.2)
+    assert simulation.odometry_due()
+    simulation.add_robot(robot('b', 3.0))
+    simulation.command('b', 1.0, 0.0)
+    simulation.step()
+    assert simulation.pose('b')[0] == pytest.approx(3.02)
