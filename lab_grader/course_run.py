@@ -225,6 +225,9 @@ class _Run:
             self.recorder.play(self.spin)
             timed_out = self._until_over()
             self._catch_up()
+            if self.recorder.recording.failed:
+                raise GradingError('the run could not be recorded: '
+                                   f'{self.recorder.recording.bag.failure}')
         except GradingError as error:
             return RunResult(self._stop_submission(), bag, str(error))
         if self.stopping.is_set():

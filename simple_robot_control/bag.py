@@ -95,7 +95,13 @@ def qos_yaml(profiles: list[dict]) -> str:
 
 
 class BagWriter:
-    """Writes one MCAP bag: add_topic once per topic, then write its serialised messages."""
+    """
+    Writes one MCAP bag: add_topic once per topic, then write its serialised messages.
+
+    A write the file system refuses (a full disk) raises BagError and ends the bag there: what
+    reached the disk before stays readable up to its last complete chunk, and close() then
+    only lets the file go.
+    """
 
     def __init__(self, path: str | os.PathLike):
         self.path = Path(path)
@@ -105,38 +111,57 @@ class BagWriter:
             raise BagError(f'{path}: cannot write the bag: {error.strerror}') from None
         self._writer = Writer(self._stream, chunk_size=CHUNK_SIZE,
                               compression=CompressionType.NONE)
-        self._writer.start(profile='ros2', library='simple_robot_control')
         self._schemas, self._channels = {}, {}
         self._flushed_at = time.monotonic()
         self.message_count = 0
+        self.failure = None
+        self._guarded(lambda: self._writer.start(profile='ros2', library='simple_robot_control'))
+
+    def _guarded(self, action):
+        """Run action on the file; a refused write ends the bag and raises BagError."""
+        if self.failure is not None:
+            raise BagError(self.failure)
+        try:
+            return action()
+        except OSError as error:
+            self.failure = f'{self.path}: cannot write the bag: {error.strerror or error}'
+            self._let_go()
+            raise BagError(self.failure) from None
+
+    def _let_go(self):
+        """Close the file without finishing the bag; bytes the disk refused are dropped."""
+        try:
+            self._stream.close()
+        except OSError:
+            pass
 
     def add_topic(self, topic: str, type_name: str, offered_qos: list[dict]) -> int:
         """Add a topic of type_name (pkg/msg/Type); return its channel id."""
         if topic in self._channels:
             return self._channels[topic]
         if type_name not in self._schemas:
-            self._schemas[type_name] = self._writer.register_schema(
-                name=type_name, encoding='ros2msg',
-                data=message_definition(type_name).encode())
-        self._channels[topic] = self._writer.register_channel(
+            definition = message_definition(type_name).encode()
+            self._schemas[type_name] = self._guarded(lambda: self._writer.register_schema(
+                name=type_name, encoding='ros2msg', data=definition))
+        self._channels[topic] = self._guarded(lambda: self._writer.register_channel(
             topic=topic, message_encoding='cdr', schema_id=self._schemas[type_name],
             metadata={'offered_qos_profiles': qos_yaml(offered_qos),
-                      'topic_type_hash': type_hash(type_name)})
+                      'topic_type_hash': type_hash(type_name)}))
         return self._channels[topic]
 
     def write(self, channel: int, log_time_ns: int, data: bytes,
               publish_time_ns: int | None = None) -> None:
         """Write one serialised message of a channel: received at log_time_ns, sent at publish."""
-        self._writer.add_message(channel_id=channel, log_time=log_time_ns, data=data,
-                                 publish_time=log_time_ns if publish_time_ns is None
-                                 else publish_time_ns)
+        self._guarded(lambda: self._writer.add_message(
+            channel_id=channel, log_time=log_time_ns, data=data,
+            publish_time=log_time_ns if publish_time_ns is None else publish_time_ns))
         self.message_count += 1
         if time.monotonic() - self._flushed_at > FLUSH_PERIOD:
-            self._stream.flush()
+            self._guarded(self._stream.flush)
             self._flushed_at = time.monotonic()
 
     def close(self) -> None:
-        """Finish the bag: the last chunk, the summary, the statistics."""
-        if not self._stream.closed:
-            self._writer.finish()
-            self._stream.close()
+        """Finish the bag (the last chunk, the summary, the statistics), unless it has failed."""
+        if self.failure is None and not self._stream.closed:
+            self._guarded(self._writer.finish)
+            self._guarded(self._stream.close)

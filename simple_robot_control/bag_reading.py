@@ -10,6 +10,7 @@ by rosbags with the definitions the bag itself carries. No ROS client here.
 from dataclasses import dataclass
 import os
 from pathlib import Path
+import struct
 from typing import Iterator
 
 from mcap.exceptions import McapError
@@ -83,7 +84,7 @@ class BagMessages:
                         yield message
         except OSError as error:
             raise BagReadError(f'{file}: cannot read the bag: {error.strerror}') from None
-        except (McapError, EOFError, ValueError, KeyError) as error:
+        except (McapError, EOFError, ValueError, KeyError, struct.error) as error:
             if not read_any:
                 raise BagReadError(f'{file}: not a readable MCAP bag ({error})') from None
             self.cut_short = True

@@ -9,6 +9,7 @@ send_times, its publish time is when it was sent (the middleware's source timest
 time), as rosbag2 writes it: rclpy passes that to the callbacks of its Python executors, not to
 the EventsExecutor's, so a node spun by an EventsExecutor records its log time for both.
 record_run is a node of its own around it; course_monitor and grade_lab record runs with it.
+A bag the disk stops taking (full) ends the recording with one line, never the node's run.
 """
 
 from collections import Counter
@@ -69,6 +70,7 @@ class BagRecording:
         self.received = Counter()
         self._skipped = set()
         self._closed = False
+        self._reported = False
         self._send_times = send_times
         self._late = {}
         node.create_timer(GRAPH_PERIOD, self._follow_graph,
@@ -103,7 +105,11 @@ class BagRecording:
         then(data, sent), if given, also gets each serialised message recorded and the wall
         time it was sent at (nanoseconds; None without send_times).
         """
-        channel = self.bag.add_topic(topic, type_name, [offered(qos)])
+        try:
+            channel = self.bag.add_topic(topic, type_name, [offered(qos)])
+        except BagError as error:
+            self._stop(error)
+            return
         seen = set() if history is not None else None
         self._subscribe(topic, message_class(type_name), channel, qos, then, seen)
         if history is not None:
@@ -122,6 +128,9 @@ class BagRecording:
         try:
             channel = self.bag.add_topic(topic, types[0], [offered(p) for p in profiles])
         except BagError as error:
+            if self.bag.failure is not None:
+                self._stop(error)
+                return
             self._skipped.add(topic)
             self._node.get_logger().warn(f'{topic}: not recorded: {error}')
             return
@@ -148,7 +157,11 @@ class BagRecording:
                 if (sent, data) in seen:
                     return
                 seen.add((sent, data))
-            self.bag.write(channel, clock.now().nanoseconds, data, sent)
+            try:
+                self.bag.write(channel, clock.now().nanoseconds, data, sent)
+            except BagError as error:
+                self._stop(error)
+                return
             self.received[topic] += 1
             if then is not None:
                 then(data, sent)
@@ -162,9 +175,29 @@ class BagRecording:
         """Return the subscription recording topic, or None while it is not recorded."""
         return self._recorded.get(topic)
 
+    @property
+    def failed(self):
+        """Whether the disk stopped taking the bag, which then ended early."""
+        return self.bag.failure is not None
+
+    def _stop(self, error):
+        """End the recording at a write the disk refused: one line, and the node goes on."""
+        self._closed = True
+        if not self._reported:
+            self._reported = True
+            self._node.get_logger().error(
+                f'{error}; recording stopped after {self.bag.message_count} messages (the bag '
+                'keeps what reached the disk, up to its last complete chunk)')
+
     def close(self):
         """Finish the bag, so that an interrupted recording is complete and indexed."""
+        if self._closed:
+            return
         self._closed = True
-        self.bag.close()
+        try:
+            self.bag.close()
+        except BagError as error:
+            self._stop(error)
+            return
         self._node.get_logger().info(f'{self.bag.path}: {self.bag.message_count} messages of '
                                      f'{len(self._recorded)} topics')

@@ -33,6 +33,9 @@ def load_bag(path: str | os.PathLike, robot_name: str = 'robot0', course: list |
             reading.take(item, number)
     except BagReadError as error:
         raise RunRecordError(str(error)) from None
+    if messages.cut_short and reading.course is None and not reading.poses:
+        raise RunRecordError(f'{path}: the bag ends before its first complete chunk (its '
+                             'recording was stopped early, or the disk was full): no run in it')
     waypoints = course if course is not None else reading.course
     if waypoints is None:
         raise RunRecordError(f'{path}: no {COURSE_TOPIC} in the bag (recorded before the '

@@ -2,6 +2,7 @@
 
 import math
 
+from full_disk import fill_up_after
 from nav_msgs.msg import Odometry
 import numpy as np
 from PIL import Image
@@ -168,3 +169,32 @@ def test_plot_run_refuses_a_broken_bag_in_one_line(tmp_path, capsys):
     error = capsys.readouterr().err
     assert error.startswith(f'plot_run: error: {broken}: not a readable MCAP bag')
     assert len(error.strip().splitlines()) == 1
+
+
+def test_a_full_disk_stops_the_recording_not_the_run(ros_context, executor, tmp_path,
+                                                     monkeypatch, capsys):
+    fill_up_after(monkeypatch, 16 << 10)
+    course, record = tmp_path / 'course.txt', tmp_path / 'run.mcap'
+    course.write_text(COURSE)
+    output = []
+    simulator = StdrLite(context=ros_context,
+                         parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
+    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
+                            context=ros_context, parameter_overrides=overrides(bag=str(record)))
+    for node in (simulator, monitor):
+        executor.add_node(node)
+    spin_until(executor, lambda: '/robot0/odom' in monitor.recording.topics, what='the record')
+    executor.add_node(WaypointController(str(course), context=ros_context))
+    spin_until(executor, lambda: monitor.recording.failed, timeout=60.0,
+               what='the disk to fill up')
+    executor.spin_until_future_complete(monitor.finished, timeout_sec=60.0)
+    assert monitor.finished.result() == 0
+    assert [line.split()[0] for line in ''.join(output).splitlines()[:4]] == [
+        'STARTED', 'WAYPOINT', 'WAYPOINT', 'FINISHED']
+    monitor.shut_down()  # no traceback, no second complaint
+    assert record.stat().st_size <= 16 << 10
+    assert plot_run([str(record), '--output', str(tmp_path / 'run.png')]) == 2
+    error = capsys.readouterr().err
+    assert error.strip() == (f'plot_run: error: {record}: the bag ends before its first '
+                             'complete chunk (its recording was stopped early, or the disk was '
+                             'full): no run in it')

@@ -1,5 +1,6 @@
 """Bags in MCAP as Jazzy's rosbag2 writes them, read back by independent readers."""
 
+from full_disk import fill_up_after
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap.records import Message
@@ -8,6 +9,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 from simple_robot_control.bag import (BagError, BagWriter, CHUNK_SIZE, INFINITE,
                                       message_definition, qos_yaml, type_hash)
+from simple_robot_control.bag_reading import BagMessages
 import yaml
 
 LATCHED = {'history': 'keep_last', 'depth': 1, 'reliability': 'reliable',
@@ -73,6 +75,27 @@ def test_a_bag_cut_short_keeps_its_complete_chunks(tmp_path):
             pass  # the record the cut went through
     # Whole chunks of about CHUNK_SIZE bytes each (50 bytes a message), from the first on.
     assert CHUNK_SIZE // 50 < len(stamps) < 40_000
+    assert stamps == [1_000_000_000 + index for index in range(len(stamps))]
+
+
+def test_a_full_disk_ends_the_bag_readable_up_to_its_last_complete_chunk(tmp_path, monkeypatch):
+    limit = 2 * CHUNK_SIZE + CHUNK_SIZE // 2
+    fill_up_after(monkeypatch, limit)
+    path = tmp_path / 'full.mcap'
+    bag = BagWriter(path)
+    channel = bag.add_topic('/robot_status', 'std_msgs/msg/String', [LATCHED])
+    with pytest.raises(BagError) as refused:
+        for index in range(100_000):
+            bag.write(channel, 1_000_000_000 + index, STATUS)
+    assert str(refused.value) == f'{path}: cannot write the bag: No space left on device'
+    with pytest.raises(BagError):
+        bag.write(channel, 0, STATUS)
+    bag.close()  # lets the file go, no summary to write
+    assert path.stat().st_size <= limit
+    messages = BagMessages(path, {'/robot_status'})
+    stamps = [message.log_time_ns for message in messages]
+    # Two whole chunks of about CHUNK_SIZE bytes each (50-odd bytes a message); not the third.
+    assert messages.cut_short and 2 * (CHUNK_SIZE // 60) < len(stamps) <= index + 1
     assert stamps == [1_000_000_000 + index for index in range(len(stamps))]
 
 
