@@ -66,10 +66,13 @@ def planar_pose(pose, tolerance: float = 1e-6) -> tuple:
               orientation.w)
     if not all(map(math.isfinite, values)):
         raise ValueError('the pose holds a value that is not finite')
-    norm = math.sqrt(sum(value * value for value in values[3:]))
-    if norm < tolerance:
+    largest = max(map(abs, values[3:]))
+    if largest < tolerance:
         raise ValueError('the orientation is a zero quaternion')
-    if abs(orientation.x) / norm > tolerance or abs(orientation.y) / norm > tolerance:
+    # Scaled before it is squared, so that no finite quaternion overflows.
+    x, y, z, w = (value / largest for value in values[3:])
+    norm = math.hypot(x, y, z, w)
+    if abs(x) / norm > tolerance or abs(y) / norm > tolerance:
         raise ValueError('the orientation turns about x or y; the world is a plane')
-    yaw = math.remainder(2.0 * math.atan2(orientation.z / norm, orientation.w / norm), math.tau)
+    yaw = math.remainder(2.0 * math.atan2(z, w), math.tau)
     return position.x, position.y, yaw

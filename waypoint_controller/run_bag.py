@@ -13,7 +13,7 @@ from pathlib import Path
 
 from simple_robot_control.bag_reading import BagMessages, BagReadError
 from simple_robot_control.pose import pose_from_message
-from waypoint_controller.run_record import RunRecord, RunRecordError, StatusClock
+from waypoint_controller.run_record import POSE, RunRecord, RunRecordError, StatusClock
 from waypoint_controller.status import parse_status
 from waypoint_controller.waypoints import MAX_WAYPOINTS, Waypoint
 
@@ -70,7 +70,7 @@ class _Reading:
         stamp = message.header.stamp
         time = stamp.sec + stamp.nanosec * 1e-9
         pose = pose_from_message(message.pose.pose)
-        if all(map(math.isfinite, pose)) and self._clock.odometry(time, pose):
+        if _on_the_map(pose) and self._clock.odometry(time, pose):
             self.times.append(time)
             self.poses.append(pose)
 
@@ -84,4 +84,13 @@ class _Reading:
         if len(message.poses) > MAX_WAYPOINTS:
             raise RunRecordError(f'{COURSE_TOPIC}: a course of {len(message.poses):,} waypoints '
                                  f'(at most {MAX_WAYPOINTS:,})')
-        self.course = [Waypoint(*pose_from_message(stamped.pose)) for stamped in message.poses]
+        course = [pose_from_message(stamped.pose) for stamped in message.poses]
+        if not all(map(_on_the_map, course)):
+            raise RunRecordError(f'{COURSE_TOPIC}: a waypoint off any map (each of x and y must '
+                                 f'be {POSE[0].text()})')
+        self.course = [Waypoint(*pose) for pose in course]
+
+
+def _on_the_map(pose):
+    """Whether a pose is one a run can have: finite, on a map of sensible size."""
+    return all(bounds.contains(value) for bounds, value in zip(POSE, pose))

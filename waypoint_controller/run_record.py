@@ -14,9 +14,9 @@ import math
 import os
 
 from simple_robot_control.input_files import read_text
-from simple_robot_control.validation import describe, is_finite_number
+from simple_robot_control.validation import Bounds, describe, is_finite_number
 from waypoint_controller.status import FINISHED, parse_status, STARTED, WAYPOINT
-from waypoint_controller.waypoints import MAX_WAYPOINTS, Waypoint
+from waypoint_controller.waypoints import MAX_WAYPOINTS, POSITION, Waypoint
 
 
 # robot_status prints x and y to 1 mm and theta to 0.01 degree; a pose matches within rounding.
@@ -27,6 +27,12 @@ MAX_RECORD_BYTES = 64 << 20
 # The header holds the course: its line is the longest, about 60 bytes a waypoint.
 MAX_LINE_CHARACTERS = 60 * MAX_WAYPOINTS + 1000
 RECENT_POSES = 2000
+# What a record may hold: poses on a map (headings within ten turns either way), the goal set's
+# tolerances as a course may set them, times within a year.
+POSE = (POSITION, POSITION, Bounds(-20.0 * math.pi, 20.0 * math.pi))
+DISTANCE_TOLERANCE = Bounds(0.0, 10.0, low_open=True)
+ANGLE_TOLERANCE = Bounds(0.0, math.pi, low_open=True)
+TIME = Bounds(-3.2e7, 3.2e7)
 
 
 class StatusClock:
@@ -206,9 +212,12 @@ def load_run(path: str | os.PathLike) -> RunRecord:
     try:
         record = RunRecord(
             course=str(header['course']),
-            waypoints=[Waypoint(*_finite(path, 1, values, 3)) for values in header['waypoints']],
-            distance_tolerance=_finite(path, 1, [header['distance_tolerance']], 1)[0],
-            angle_tolerance=_finite(path, 1, [header['angle_tolerance']], 1)[0])
+            waypoints=[Waypoint(*_bounded(path, 1, values, POSE, 'waypoint'))
+                       for values in header['waypoints']],
+            distance_tolerance=_bounded(path, 1, [header['distance_tolerance']],
+                                        (DISTANCE_TOLERANCE,), 'distance_tolerance')[0],
+            angle_tolerance=_bounded(path, 1, [header['angle_tolerance']], (ANGLE_TOLERANCE,),
+                                     'angle_tolerance')[0])
     except (KeyError, TypeError) as error:
         raise RunRecordError(f'{path}:1: not a run header ({error!r} missing or wrong)') from None
     record.cut_short_line = cut_short
@@ -219,10 +228,10 @@ def load_run(path: str | os.PathLike) -> RunRecord:
         if not line.strip():
             continue
         entry = _entry(path, number, line)
-        time = _finite(path, number, [entry.get('t')], 1)[0]
+        time = _bounded(path, number, [entry.get('t')], (TIME,), 't')[0]
         if 'pose' in entry:
             record.times.append(time)
-            record.poses.append(tuple(_finite(path, number, entry['pose'], 3)))
+            record.poses.append(tuple(_bounded(path, number, entry['pose'], POSE, 'pose')))
         elif not isinstance(entry.get('status'), str):
             raise RunRecordError(f'{path}:{number}: neither a pose nor a status')
         elif parse_status(entry['status']) is None:
@@ -255,10 +264,14 @@ def _entry(path, number, line):
     return entry
 
 
-def _finite(path, number, values, count):
-    """Check that values is a list of count finite numbers and return them as floats."""
+def _bounded(path, number, values, bounds, name):
+    """Check that values is a list of numbers, each within its bounds; return them as floats."""
+    count = len(bounds)
     if not isinstance(values, list) or len(values) != count or not all(
             map(is_finite_number, values)):
-        raise RunRecordError(f'{path}:{number}: expected {count} finite number'
+        raise RunRecordError(f'{path}:{number}: {name}: expected {count} finite number'
                              f'{"s" if count > 1 else ""}, got {describe(values)}')
+    for value, bound in zip(values, bounds):
+        if not bound.contains(value):
+            raise RunRecordError(f'{path}:{number}: {bound.problem(name, value)}')
     return [float(value) for value in values]

@@ -45,6 +45,10 @@ def path_of(uri: str, bundled: dict) -> str:
     if uri in bundled:
         return bundled[uri]
     parsed = urlparse(uri)
+    if parsed.scheme == 'file' and parsed.netloc not in ('', 'localhost'):
+        raise SpawnResourceError('unsupported_format', f'{shorten(uri)}: names a file on '
+                                 f'{shorten(parsed.netloc)}, another machine; only local files '
+                                 '(file:///path or file://localhost/path) are read')
     if parsed.scheme == 'file':
         return unquote(parsed.path)
     if parsed.scheme:

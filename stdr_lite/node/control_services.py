@@ -191,7 +191,11 @@ class SimulationControl:
         paths = list(bundled_files('maps').values())
         unreadable, notes = [], []
         for source in request.additional_sources:
-            source = path_of(source, {}) if source.startswith('file:') else source
+            try:
+                source = path_of(source, {}) if source.startswith('file:') else source
+            except SpawnResourceError:
+                unreadable.append(source)  # a file on another machine
+                continue
             if os.path.isdir(source):
                 found, note = yaml_files(source)
                 paths += found

@@ -35,6 +35,10 @@ from stdr_lite.node.naming import check_robot_names, NamingProblem
 CATEGORIES = {Category.ROBOT: EntityCategory.CATEGORY_ROBOT,
               Category.STATIC_OBSTACLE: EntityCategory.CATEGORY_STATIC_OBJECT,
               Category.MOVING_OBSTACLE: EntityCategory.CATEGORY_DYNAMIC_OBJECT}
+KNOWN_CATEGORIES = {EntityCategory.CATEGORY_OBJECT, EntityCategory.CATEGORY_ROBOT,
+                    EntityCategory.CATEGORY_HUMAN, EntityCategory.CATEGORY_DYNAMIC_OBJECT,
+                    EntityCategory.CATEGORY_STATIC_OBJECT}
+TAG_MODES = (TagsFilter.FILTER_MODE_ANY, TagsFilter.FILTER_MODE_ALL)
 REGIONS = {Bounds.TYPE_SPHERE: 'sphere', Bounds.TYPE_BOX: 'box',
            Bounds.TYPE_CONVEX_HULL: 'hull'}
 # A name filter: its length, and the wall time it may take on one name (names are at most a
@@ -180,7 +184,15 @@ class EntityServices:
         matches_name = _name_filter(filters.filter)
         overlaps = _region_filter(filters.bounds)
         categories = {category.category for category in filters.categories}
+        unknown = sorted(categories - KNOWN_CATEGORIES)
+        if unknown:
+            raise Refusal(Result.RESULT_OPERATION_FAILED, f'category {unknown[0]} is none of '
+                          f'EntityCategory\'s ({", ".join(map(str, sorted(KNOWN_CATEGORIES)))})')
         wanted = set(filters.tags.tags)
+        if filters.tags.filter_mode not in TAG_MODES:
+            raise Refusal(Result.RESULT_OPERATION_FAILED, f'tags filter_mode '
+                          f'{filters.tags.filter_mode} is neither FILTER_MODE_ANY (0) nor '
+                          'FILTER_MODE_ALL (1)')
         every_tag = filters.tags.filter_mode == TagsFilter.FILTER_MODE_ALL
         matching = []
         for name in self._simulation.names:

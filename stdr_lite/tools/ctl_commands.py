@@ -99,11 +99,14 @@ def timeout(text: str) -> float:
 
 def simulator_name(text: str) -> str:
     """Parse the full name of a simulator node, whose services are <name>/<service>."""
+    problem = argparse.ArgumentTypeError(f'not the full name of a node (such as /stdr_lite): '
+                                         f'{describe(text)}')
+    if not text.strip('/'):
+        raise problem
     try:
         validate_full_topic_name(f'{text.rstrip("/")}/get_simulation_state', is_service=True)
     except InvalidServiceNameException:
-        raise argparse.ArgumentTypeError(f'not the full name of a node (such as /stdr_lite): '
-                                         f'{describe(text)}') from None
+        raise problem from None
     return text
 
 

@@ -89,6 +89,8 @@ def test_renaming_gives_a_free_name(world):
 
 @pytest.mark.parametrize('fields, code, words', [
     ({'name': 'robé'}, SpawnResult.NAME_INVALID, 'robé'),
+    *(({'name': name}, SpawnResult.NAME_INVALID, f'got a text of {len(name)} characters')
+      for name in ('a\x01b', 'a\nb', 'a\x1b[2Jb', 'a\x7fb')),
     ({'name': ''}, SpawnResult.NAME_INVALID, 'allow renaming'),
     ({'name': 'robot0'}, SpawnResult.NAME_NOT_UNIQUE, 'robot0'),
     ({'uri': ''}, SpawnResult.NO_RESOURCE, 'resource_string'),
@@ -231,6 +233,9 @@ def test_entities_are_found_by_every_filter(world, filters, names):
     (EntityFilters(bounds=Bounds(type=Bounds.TYPE_BOX, points=[Vector3()])), 'no volume'),
     (EntityFilters(bounds=Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
         Vector3(), Vector3(x=1.0), Vector3(x=2.0)])), 'hull'),
+    (EntityFilters(tags=TagsFilter(tags=['robot'], filter_mode=7)),
+     'tags filter_mode 7 is neither FILTER_MODE_ANY (0) nor FILTER_MODE_ALL (1)'),
+    (EntityFilters(categories=[category(3)]), 'category 3 is none of'),
 ])
 def test_a_filter_that_means_nothing_is_refused(world, filters, words):
     _, _, call = world

@@ -13,6 +13,8 @@ from stdr_lite.tools.ctl_commands import build_arguments
     (['simulate', str(MAX_ACTION_STEPS + 1)], f'from 1 to {MAX_ACTION_STEPS:,}'),
     (['--simulator', '/bad name', 'state'],
      "not the full name of a node (such as /stdr_lite): '/bad name'"),
+    (['--simulator', '', 'state'], "not the full name of a node (such as /stdr_lite): ''"),
+    (['--simulator', '//', 'state'], "not the full name of a node (such as /stdr_lite): '//'"),
     (['--timeout', '-1', 'state'], 'a timeout must be in (0, 3600] seconds'),
     (['--timeout', 'nan', 'state'], 'not a finite number'),
 ])

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from rosbags.typesys import get_typestore, Stores
 from simple_robot_control.bag import BagWriter
+from waypoint_controller.plot_run import main as plot_run
 from waypoint_controller.run_bag import load_bag
 from waypoint_controller.run_record import RunRecordError
 
@@ -44,7 +45,7 @@ def odometry(seconds, x):
             covariance=covariance))
 
 
-def write_run(path, steps=100, finish=True):
+def write_run(path, steps=100, finish=True, goal_x=3.0):
     """Drive from x = 1 to 3 in steps, reporting STARTED and WAYPOINT 1 (and FINISHED)."""
     bag = BagWriter(path)
     course = bag.add_topic('/waypoints', 'nav_msgs/msg/Path', LATCHED)
@@ -54,7 +55,7 @@ def write_run(path, steps=100, finish=True):
     def write(channel, time, message, kind):
         bag.write(channel, round(time * 1e9), STORE.serialize_cdr(message, kind))
     path_message = T['nav_msgs/msg/Path'](header=header(0), poses=[
-        T['geometry_msgs/msg/PoseStamped'](header=header(0), pose=pose(3.0, 2.0, 0.0))])
+        T['geometry_msgs/msg/PoseStamped'](header=header(0), pose=pose(goal_x, 2.0, 0.0))])
     write(course, 0.0, path_message, 'nav_msgs/msg/Path')
     for step in range(steps + 1):
         time, x = step * 0.02, 1.0 + 2.0 * step / steps
@@ -101,3 +102,13 @@ def test_a_bag_without_the_course_needs_it_given(tmp_path):
     with pytest.raises(RunRecordError, match='no /waypoints in the bag'):
         load_bag(tmp_path / 'run.mcap')
     assert len(load_bag(tmp_path / 'run.mcap', course=[]).poses) == 1
+
+
+def test_a_course_off_any_map_is_refused_in_one_line(tmp_path, capsys):
+    write_run(tmp_path / 'run.mcap', goal_x=1e308).close()
+    with pytest.raises(RunRecordError, match='/waypoints: a waypoint off any map'):
+        load_bag(tmp_path / 'run.mcap')
+    assert plot_run([str(tmp_path / 'run.mcap')]) == 2
+    error = capsys.readouterr().err
+    assert len(error.splitlines()) == 1 and 'a waypoint off any map' in error
+    assert not (tmp_path / 'run.png').exists()

@@ -24,6 +24,7 @@ def test_files_by_path_or_uri_and_text():
     path = BUNDLED['lab_robot']
     assert load_resource(path, '', BUNDLED).radius == 0.2
     assert load_resource(Path(path).as_uri(), '', BUNDLED).radius == 0.2
+    assert load_resource(f'file://localhost{path}', '', BUNDLED).radius == 0.2
     assert load_resource('', 'footprint: {radius: 0.3}', BUNDLED).radius == 0.3
     assert load_resource('', '{obstacle: {radius: 0.4, moving: true}}', BUNDLED) == (
         ObstacleSpec(0.4, True))
@@ -34,6 +35,8 @@ def test_files_by_path_or_uri_and_text():
     ('model.sdf', '', 'unsupported_format', 'spawn formats are stdr_robot_yaml, stdr_robot_xml'),
     ('https://example.org/robot.yaml', '', 'unsupported_format', 'only file paths'),
     ('/no/such/robot.yaml', '', 'missing_assets', 'no such file'),
+    ('file://otherhost' + BUNDLED['lab_robot'], '', 'unsupported_format',
+     'names a file on otherhost, another machine; only local files'),
     ('', 'footprint: {radius: -1}', 'parse_error', 'footprint.radius: must be in'),
     ('', '{obstacle: {radius: 9}}', 'parse_error', 'obstacle.radius must be in (0, 0.5] m'),
     ('', '{obstacle: {radius: 0.2, moving: maybe}}', 'parse_error', 'true or false'),
