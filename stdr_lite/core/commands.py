@@ -7,9 +7,11 @@ import numpy as np
 
 # STDR applies every command as given. A finite bound stays, so that no command can make one
 # step's swept path (checked a quarter cell at a time) cost without end: at 100 m/s and 50 Hz
-# a step is 2 m, 160 samples of a 5 cm map.
+# a step is 2 m, 160 samples of a 5 cm map. The parameters safety_linear_speed and
+# safety_angular_speed raise it, up to SAFETY_CEILING (a 200 m step: 16,000 samples).
 SAFETY_LINEAR_SPEED = 100.0
 SAFETY_ANGULAR_SPEED = 100.0
+SAFETY_CEILING = 10_000.0
 
 
 class CommandOutcome(enum.Enum):
@@ -17,16 +19,17 @@ class CommandOutcome(enum.Enum):
 
     APPLIED = 'applied'
     CLAMPED = 'clamped to the speed limits'
-    SAFETY_BOUND = (f'clamped to the safety bound ({SAFETY_LINEAR_SPEED:g} m/s, '
-                    f'{SAFETY_ANGULAR_SPEED:g} rad/s)')
+    SAFETY_BOUND = 'clamped to the safety bound'
     NOT_OMNI = 'applied without its linear.y: the robot is not omni-directional'
     IGNORED = 'ignored: not finite'
 
 
-def speed_limits(max_linear_speed: float, max_angular_speed: float) -> tuple[float, float]:
+def speed_limits(max_linear_speed: float, max_angular_speed: float,
+                 safety: tuple[float, float] = (SAFETY_LINEAR_SPEED, SAFETY_ANGULAR_SPEED)
+                 ) -> tuple[float, float]:
     """Return the limits in force: a limit of 0 is none (as STDR), short of the safety bound."""
-    return (min(max_linear_speed or SAFETY_LINEAR_SPEED, SAFETY_LINEAR_SPEED),
-            min(max_angular_speed or SAFETY_ANGULAR_SPEED, SAFETY_ANGULAR_SPEED))
+    return (min(max_linear_speed or safety[0], safety[0]),
+            min(max_angular_speed or safety[1], safety[1]))
 
 
 class CommandBuffer:
@@ -35,16 +38,18 @@ class CommandBuffer:
 
     linear and lateral are the robot-frame velocity (lateral is an omni robot's linear.y), whose
     length is clamped to max_linear_speed; angular to max_angular_speed. A limit of 0 is none
-    (short of the safety bound). A command is held until the next one arrives, as in STDR.
-    With a positive timeout, a robot whose last command is older than the timeout (in
-    simulated seconds) is stopped.
+    (short of the safety bound, safety: linear and angular). A command is held until the next
+    one arrives, as in STDR. With a positive timeout, a robot whose last command is older than
+    the timeout (in simulated seconds) is stopped.
     """
 
     def __init__(self, robot_count: int, max_linear_speed: float, max_angular_speed: float,
-                 timeout: float = 0.0):
+                 timeout: float = 0.0,
+                 safety: tuple[float, float] = (SAFETY_LINEAR_SPEED, SAFETY_ANGULAR_SPEED)):
         self.clamps = bool(max_linear_speed or max_angular_speed)
-        self.max_linear_speed, self.max_angular_speed = speed_limits(max_linear_speed,
-                                                                     max_angular_speed)
+        self.safety = safety
+        self.max_linear_speed, self.max_angular_speed = speed_limits(
+            max_linear_speed, max_angular_speed, safety)
         self.timeout = float(timeout)
         self._commands = np.zeros((robot_count, 3))
         self._received_at = np.zeros(robot_count)
@@ -57,7 +62,7 @@ class CommandBuffer:
             return (linear, lateral, angular), CommandOutcome.APPLIED
         scale = min(1.0, self.max_linear_speed / speed) if speed else 1.0
         turn = min(max(angular, -self.max_angular_speed), self.max_angular_speed)
-        at_bound = (speed > SAFETY_LINEAR_SPEED or abs(angular) > SAFETY_ANGULAR_SPEED)
+        at_bound = speed > self.safety[0] or abs(angular) > self.safety[1]
         outcome = (CommandOutcome.SAFETY_BOUND if at_bound and not self.clamps
                    else CommandOutcome.CLAMPED)
         return (linear * scale, lateral * scale, turn), outcome

@@ -3,6 +3,7 @@
 from dataclasses import dataclass, field, replace
 import enum
 
+from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import Noise, RobotDescription
 
@@ -34,8 +35,8 @@ class SimulationSettings:
     """
     How the world is stepped and measured; SI units.
 
-    odom_rate_hz 0 is every step; a speed limit of 0 is none, as in STDR (commands.py keeps a
-    safety bound); sensor_noise is one of SENSOR_NOISE_MODES; bodies_meet False lets bodies
+    odom_rate_hz 0 is every step; a speed limit of 0 is none, as in STDR, short of the safety
+    bound (commands.py); sensor_noise is one of SENSOR_NOISE_MODES; bodies_meet False lets bodies
     pass through each other unseen, each meeting only the walls (side-by-side independent
     episodes).
     """
@@ -44,6 +45,8 @@ class SimulationSettings:
     integrator: str = 'euler'
     max_linear_speed: float = 0.0
     max_angular_speed: float = 0.0
+    safety_linear_speed: float = SAFETY_LINEAR_SPEED
+    safety_angular_speed: float = SAFETY_ANGULAR_SPEED
     cmd_vel_timeout: float = 0.0
     sensor_seed: int = 0
     sensor_noise: str = 'auto'
@@ -57,6 +60,11 @@ class SimulationSettings:
         if self.sensor_noise not in SENSOR_NOISE_MODES:
             raise ValueError(f'sensor_noise must be one of {", ".join(SENSOR_NOISE_MODES)}, '
                              f'got {self.sensor_noise!r}')
+
+    @property
+    def safety(self) -> tuple[float, float]:
+        """Return the safety bound on commands: (linear m/s, angular rad/s)."""
+        return self.safety_linear_speed, self.safety_angular_speed
 
     def applies_sensor_noise(self, description: RobotDescription) -> bool:
         """Whether a robot of this description reads with the noise its file describes."""

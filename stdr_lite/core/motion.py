@@ -45,7 +45,8 @@ def motion_for(category: Category, theta: float, x: float, y: float, angular: fl
     if not all(map(math.isfinite, (x, y, angular))):
         raise RequestError('the velocity must be finite')
     speed = math.hypot(x, y)
-    max_linear, max_angular = speed_limits(settings.max_linear_speed, settings.max_angular_speed)
+    max_linear, max_angular = speed_limits(settings.max_linear_speed, settings.max_angular_speed,
+                                           settings.safety)
     if speed > max_linear or abs(angular) > max_angular:
         raise RequestError(f'the velocity exceeds the limits ({compact(speed)} m/s, '
                            f'{compact(angular)} rad/s; at most {compact(max_linear)} m/s and '

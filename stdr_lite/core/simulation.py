@@ -82,7 +82,7 @@ class Simulation(SimulationQueries):
                            terrain.checker, self.settings.bodies_meet)
         self._commands = CommandBuffer(0, self.settings.max_linear_speed,
                                        self.settings.max_angular_speed,
-                                       self.settings.cmd_vel_timeout)
+                                       self.settings.cmd_vel_timeout, self.settings.safety)
         # The velocities of the last step (linear, lateral, angular): zero for a blocked body.
         self._applied = (np.zeros(0), np.zeros(0), np.zeros(0))
         # Whether each body's last step was refused: a wall or another body in its way.

@@ -8,7 +8,7 @@ from simple_robot_control.occupancy_map import MapError
 from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.share import BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
-from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
+from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_CEILING, SAFETY_LINEAR_SPEED
 from stdr_lite.core.entities import SENSOR_NOISE_MODES
 from stdr_lite.core.kinematics import INTEGRATORS
 from stdr_lite.core.loading import load_world
@@ -55,11 +55,19 @@ PARAMETERS = (
     ParameterSpec('initial_pose', [1.0, 2.0, 0.0], 'start pose of that robot [x m, y m, theta '
                   'rad] in the map frame', constraints='off walls, on the map'),
     ParameterSpec('max_linear_speed', 0.0, 'commands beyond this linear speed are clamped '
-                  f'[m/s]; 0 clamps none (STDR), short of the safety bound of '
-                  f'{SAFETY_LINEAR_SPEED:g} m/s', Bounds(0.0, SAFETY_LINEAR_SPEED)),
+                  '[m/s]; 0 clamps none (STDR), short of safety_linear_speed',
+                  Bounds(0.0, SAFETY_CEILING)),
     ParameterSpec('max_angular_speed', 0.0, 'commands beyond this angular speed are clamped '
-                  f'[rad/s]; 0 clamps none (STDR), short of the safety bound of '
-                  f'{SAFETY_ANGULAR_SPEED:g} rad/s', Bounds(0.0, SAFETY_ANGULAR_SPEED)),
+                  '[rad/s]; 0 clamps none (STDR), short of safety_angular_speed',
+                  Bounds(0.0, SAFETY_CEILING)),
+    ParameterSpec('safety_linear_speed', SAFETY_LINEAR_SPEED, 'the safety bound: commands '
+                  'beyond this linear speed are clamped, with a warning, whatever the limits '
+                  '(STDR has none; raise it to apply faster commands as STDR does) [m/s]',
+                  Bounds(1.0, SAFETY_CEILING)),
+    ParameterSpec('safety_angular_speed', SAFETY_ANGULAR_SPEED, 'the safety bound: commands '
+                  'beyond this angular speed are clamped, with a warning, whatever the limits '
+                  '(STDR has none; raise it to apply faster commands as STDR does) [rad/s]',
+                  Bounds(1.0, SAFETY_CEILING)),
     ParameterSpec('cmd_vel_timeout', 0.0, 'stop a robot whose last command is older than '
                   'this [s of sim time]; 0 holds the last command forever (STDR)',
                   Bounds(0.0, 3600.0)),
@@ -166,7 +174,8 @@ def build_simulation(params, folders):
         odometry_noise=OdometryNoise(params['odom_noise_distance'], params['odom_noise_turn'],
                                      params['odom_noise_heading_per_distance']),
         **{name: params[name] for name in (
-            'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed', 'cmd_vel_timeout',
+            'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed',
+            'safety_linear_speed', 'safety_angular_speed', 'cmd_vel_timeout',
             'sensor_seed', 'sensor_noise', 'odom_rate_hz', 'odom_seed', 'motion_seed')})
     try:
         description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),

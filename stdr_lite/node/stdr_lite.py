@@ -222,8 +222,13 @@ class StdrLite(GuardedNode):
         outcome = self.simulation.command(name, linear, angular, lateral)
         if outcome is not CommandOutcome.APPLIED:
             sideways = f', {lateral:g} m/s sideways' if lateral else ''
+            why = outcome.value
+            if outcome is CommandOutcome.SAFETY_BOUND:
+                linear_bound, angular_bound = self.simulation.settings.safety
+                why += (f' ({linear_bound:g} m/s, {angular_bound:g} rad/s; the parameters '
+                        'safety_linear_speed and safety_angular_speed raise it)')
             self.get_logger().warn(f'{name}: command ({linear:g} m/s{sideways}, {angular:g} '
-                                   f'rad/s) {outcome.value}', throttle_duration_sec=5.0)
+                                   f'rad/s) {why}', throttle_duration_sec=5.0)
         self.stepper.answered(name)
 
     def _step(self):

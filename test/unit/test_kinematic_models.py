@@ -133,3 +133,16 @@ def test_lab_commands_go_unclamped_as_on_stdr(room):
     assert clamping.command('a', 4.0, 4.7) is CommandOutcome.CLAMPED
     clamping.step()
     assert clamping.applied_velocity('a') == (2.0, 0.0, math.pi)
+
+
+def test_a_raised_safety_bound_applies_what_stdr_applies(room):
+    """STDR applies 178 rad/s as given: so does stdr_lite once its safety bound is raised."""
+    entry = RobotEntry('a', RobotDescription(0.2, (0.0, 0.0, 0.0)), (1.0, 2.0, 0.0))
+    bounded = Simulation(room, SimulationSettings(rate_hz=10.0), [entry])
+    assert bounded.command('a', 0.0, 178.0) is CommandOutcome.SAFETY_BOUND
+    raised = Simulation(room, SimulationSettings(rate_hz=10.0, safety_angular_speed=200.0),
+                        [entry])
+    assert raised.command('a', 0.0, 178.0) is CommandOutcome.APPLIED
+    raised.step()
+    assert raised.pose('a')[2] == pytest.approx(math.remainder(17.8, math.tau))
+    assert raised.command('a', 0.0, 201.0) is CommandOutcome.SAFETY_BOUND
