@@ -1,6 +1,9 @@
 """Build and install simple_robot_control (ament_python; also installable with pip)."""
 
 from glob import glob
+import os
+import sys
+import sysconfig
 
 from setuptools import find_packages, setup
 
@@ -18,6 +21,9 @@ setup(
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),
+        # Signals held from the interpreter's first lines (simple_robot_control/early_signals.py).
+        (os.path.relpath(sysconfig.get_path('purelib'), sys.prefix),
+         ['resource/00_simple_robot_control_signals.pth']),
         (f'{SHARE}/maps', sorted(glob('maps/*.yaml') + glob('maps/*.pgm'))),
         (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),

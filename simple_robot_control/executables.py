@@ -2,8 +2,9 @@
 The entry points of the package's executables, as setup.py installs them.
 
 Each sets quiet handlers for Ctrl-C and SIGTERM before anything heavy is imported (numpy, scipy
-and rclpy take about a second to load), so a signal in that second ends the program with exit
-code 0 and no traceback; the node runtime takes the signals over once the node runs. The code
+and rclpy take about a second to load), then takes the signals held since the interpreter's
+first lines (early_signals.py), so a signal in that second ends the program with exit code 0
+and no traceback; the node runtime takes the signals over once the node runs. The code
 of each executable lives in the module named after it, listed here.
 """
 
@@ -12,6 +13,8 @@ import importlib
 import os
 import signal
 import sys
+
+from simple_robot_control.early_signals import release_signals
 
 MODULES = {
     'stdr_lite': 'stdr_lite.node.stdr_lite',
@@ -52,6 +55,7 @@ def start(name):
     would add a third of a second or more on a loaded machine, so the process ends there.
     """
     _handle_signals(_end_at_once)
+    release_signals()
     module = importlib.import_module(MODULES[name])
     _handle_signals(_leave_quietly)
     try:

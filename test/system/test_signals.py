@@ -9,7 +9,7 @@ import time
 from bench.realtime import write_robot_grid
 import numpy as np
 from PIL import Image
-from processes import run, start, start_logged, stop, wait_for_text
+from processes import executable, run, start, start_logged, stop, wait_for_text
 import pytest
 
 STOP_WITHIN = 1.0
@@ -103,3 +103,57 @@ def test_the_simulator_stops_during_a_long_request(tmp_path, big_world, request_
         if client is not None:
             client.kill()
             client.wait()
+
+
+# A signal this early lands in the interpreter's own start (10 to 50 ms before the package's
+# first line runs, from its .pth file) or while the package holds it (early_signals.py).
+FIRST_MOMENTS = (0.0, 0.01, 0.02, 0.05, 0.1)
+WAITING_ARGUMENTS = {
+    'stdr_lite': [], 'stdr_viewer': [], 'move_robot': [], 'stdr_ctl': ['state'],
+    'waypoint_controller': ['WAYPOINTS'], 'course_monitor': ['WAYPOINTS'], 'record_run': [],
+    'plot_run': ['missing.mcap'], 'grade_lab': ['--courses', 'WAYPOINTS', '--', 'true']}
+
+
+def ended_before_its_first_line(code, signal_number, output):
+    """Whether the signal ended Python's own start, as it ends any Python program's."""
+    ours = ('simple_robot_control', 'stdr_lite', 'waypoint_controller', 'lab_grader')
+    python_said = 'KeyboardInterrupt' in output or 'Fatal Python error' in output
+    return (code == -signal_number and not output) or (
+        code == 1 and signal_number == signal.SIGINT and python_said
+        and not any(f'/{package}/' in output for package in ours))
+
+
+@pytest.mark.parametrize('name', WAITING_ARGUMENTS)
+def test_a_signal_from_the_first_instant_ends_the_program(tmp_path, name):
+    (tmp_path / 'waypoints.txt').write_text('3 2 0\n')
+    arguments = [str(tmp_path / 'waypoints.txt') if argument == 'WAYPOINTS' else argument
+                 for argument in WAITING_ARGUMENTS[name]]
+    # Started as from a shell: the PyPI ROS wheels re-execute the interpreter once.
+    environment = {key: value for key, value in os.environ.items()
+                   if key != '_ROS_WHEELS_BOOTSTRAP_COMPLETE'}
+    environment['SDL_VIDEODRIVER'] = 'dummy'
+    outcomes = []
+    for signal_number in SIGNALS:
+        for moment in FIRST_MOMENTS:
+            process = subprocess.Popen([executable(name), *arguments], stdin=subprocess.PIPE,
+                                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                       text=True, env=environment, cwd=tmp_path)
+            started = time.monotonic()
+            while time.monotonic() - started < moment:
+                pass  # the moment to send the signal at, not a wait for anything
+            sent = time.monotonic()
+            process.send_signal(signal_number)
+            try:
+                output, _ = process.communicate(timeout=10.0)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                output, _ = process.communicate()
+                pytest.fail(f'{signal_number.name} at {moment * 1000:.0f} ms: still running '
+                            f'10 s later: {output[-500:]}')
+            took = time.monotonic() - sent
+            what = f'{signal_number.name} at {moment * 1000:.0f} ms: {process.returncode}'
+            outcomes.append(what)
+            assert took < STOP_WITHIN, f'{what} took {took:.2f} s'
+            assert (process.returncode == 0 and not output) or ended_before_its_first_line(
+                process.returncode, signal_number, output), f'{what}: {output[-500:]}'
+    print(f'{name}: {", ".join(outcomes)}')
