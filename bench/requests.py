@@ -111,6 +111,9 @@ def bursts(folder):
                 3 + k % 15, 4 + 0.5 * (k // 15))) for k in range(50)]),
         ('50 hull filters', GetEntities, 'get_entities', [GetEntities.Request(
             filters=EntityFilters(filter='^bot', bounds=hull)) for _ in range(50)]),
+        ('a 100,000-point hull', GetEntities, 'get_entities', [GetEntities.Request(
+            filters=EntityFilters(bounds=Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
+                pose(k % 300, k // 300).pose.position for k in range(100_000)])))]),
         ('200 files of spawnables', GetSpawnables, 'get_spawnables', [
             GetSpawnables.Request(sources=[str(folder / 'spawnables')])]),
         ('a 4096x4096 world', LoadWorld, 'load_world', [LoadWorld.Request(

@@ -22,6 +22,9 @@ def region_test(kind: str, points: list) -> Callable[[tuple, float], bool]:
     kind is 'sphere' (points: its centre, then (radius, _, _)), 'box' (two opposite corners)
     or 'hull' (at least three points, not all on one line); points are (x, y, z) triples.
     """
+    problem = count_problem(len(points))
+    if problem is not None:
+        raise ValueError(problem)
     if not all(math.isfinite(value) for point in points for value in point):
         raise ValueError('the bounds hold a value that is not finite')
     if kind == 'sphere' and len(points) == 2:
@@ -32,12 +35,16 @@ def region_test(kind: str, points: list) -> Callable[[tuple, float], bool]:
     if kind == 'box' and len(points) == 2:
         return lambda middle, size: overlaps_box(middle, size, points[0], points[1])
     if kind == 'hull' and len(points) >= 3:
-        if len(points) > MAX_HULL_POINTS:
-            raise ValueError(f'a convex hull of {len(points)} points; at most '
-                             f'{MAX_HULL_POINTS} are taken')
         hull = convex_hull(points)
         return lambda middle, size: overlaps_hull(middle, size, hull)
     raise ValueError(f'bounds of kind {kind} with {len(points)} points define no volume')
+
+
+def count_problem(count: int) -> str | None:
+    """Say why a region of count points is refused (more than any region takes), or None."""
+    if count > MAX_HULL_POINTS:
+        return f'bounds of {count:,} points; a convex hull takes at most {MAX_HULL_POINTS:,}'
+    return None
 
 
 def overlaps_circle(centre: tuple, radius: float, other_centre: tuple,

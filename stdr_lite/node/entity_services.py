@@ -24,7 +24,7 @@ from simulation_interfaces.srv import (DeleteEntity, GetEntities, GetEntitiesSta
                                        GetSpawnables, SetEntityState, SpawnEntities, SpawnEntity)
 from stdr_lite.core.entities import Category, NamespaceError, RequestError
 from stdr_lite.core.footprints import convex_hull
-from stdr_lite.core.regions import region_test
+from stdr_lite.core.regions import count_problem, region_test
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
 from stdr_lite.core.world import PlacementError
@@ -300,6 +300,10 @@ def _region_filter(bounds):
     """Return overlaps(centre, radius) for the filters' bounds, or raise Refusal."""
     if bounds.type == Bounds.TYPE_EMPTY:
         return lambda centre, radius: True
+    # Refused before anything is made of each point: rclpy has already spent 2 us on each.
+    problem = count_problem(len(bounds.points))
+    if problem is not None:
+        raise Refusal(Result.RESULT_OPERATION_FAILED, problem)
     points = [(point.x, point.y, point.z) for point in bounds.points]
     try:
         return region_test(REGIONS.get(bounds.type, f'type {bounds.type}'), points)
