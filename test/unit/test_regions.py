@@ -34,7 +34,7 @@ def test_a_hull_of_points_on_one_line_is_refused():
     ('sphere', [(0.0, 0.0, 0.0), (math.inf, 0.0, 0.0)], 'not finite'),
     ('sphere', [(0.0, 0.0, 0.0), (-1.0, 0.0, 0.0)], 'a sphere radius must be >= 0'),
     ('hull', [(float(k), float(k * k), 0.0) for k in range(MAX_HULL_POINTS + 1)],
-     f'at most {MAX_HULL_POINTS}'),
+     f'at most {MAX_HULL_POINTS:,}'),
     ('box', [(0.0, 0.0, 0.0)], 'define no volume'),
 ])
 def test_a_region_that_means_nothing_is_refused(kind, points, message):
