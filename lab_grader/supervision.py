@@ -5,7 +5,10 @@ Each command runs in a session and process group of its own, with a marker in it
 that its children inherit. Stopping sends SIGINT (what Ctrl-C and ros2 launch send) to every
 process carrying the marker, then SIGTERM, then SIGKILL, so a child that left the group
 (setsid, a daemon) is found and stopped too. The grader is its children's subreaper, so
-orphans come back to it to be reaped rather than to init. Output is kept, bounded. No ROS here.
+orphans come back to it to be reaped rather than to init. Each starts with SIGINT and SIGTERM
+at their defaults and nothing blocked, whatever the grader inherited (a background job of a
+script ignores SIGINT, and would pass that on): Ctrl-C reaches a submission as it would from a
+terminal. Output is kept, bounded. No ROS here.
 """
 
 from collections import deque
@@ -28,6 +31,13 @@ _PR_SET_CHILD_SUBREAPER = 36
 # The pids of the commands' own processes, whose exit status their Popen collects.
 _MANAGED = set()
 _LOCK = threading.Lock()
+
+
+def _default_signals():
+    """In the child, just before exec: SIGINT and SIGTERM at their defaults, none blocked."""
+    for number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(number, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_SETMASK, [])
 
 
 def become_subreaper() -> None:
@@ -127,7 +137,8 @@ class Supervised:
         try:
             self.process = subprocess.Popen(
                 command, cwd=cwd, env=environment, stdin=subprocess.DEVNULL,
-                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True,
+                preexec_fn=_default_signals)
         except OSError as error:
             self.process = None
             self.start_error = f'cannot start {command[0]}: {error.strerror}'

@@ -1,6 +1,7 @@
 """grade_lab run as a user would, and nothing it started left running afterwards."""
 
 import os
+import signal
 import uuid
 
 from processes import run
@@ -20,12 +21,18 @@ def tagged_processes(tag):
     return found
 
 
-def grade(*arguments, timeout=600, cwd=None):
+def ignore_sigint():
+    """Start as a background job of a shell script starts: with SIGINT ignored."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def grade(*arguments, timeout=600, cwd=None, sigint_ignored=False):
     """Run grade_lab with a tag its processes inherit; fail if any of them outlives it."""
     tag = uuid.uuid4().hex
     os.environ[TAG] = tag
     try:
-        result = run('grade_lab', *map(str, arguments), timeout=timeout, cwd=cwd)
+        result = run('grade_lab', *map(str, arguments), timeout=timeout, cwd=cwd,
+                     preexec_fn=ignore_sigint if sigint_ignored else None)
     finally:
         del os.environ[TAG]
     left = tagged_processes(tag)

@@ -21,9 +21,10 @@ def start(name, *args, **popen_options):
                             **popen_options)
 
 
-def run(name, *args, stdin_text=None, timeout=60, cwd=None):
+def run(name, *args, stdin_text=None, timeout=60, cwd=None, **popen_options):
     return subprocess.run([executable(name), *args], input=stdin_text, capture_output=True,
-                          text=True, timeout=timeout, env=dict(os.environ), cwd=cwd)
+                          text=True, timeout=timeout, env=dict(os.environ), cwd=cwd,
+                          **popen_options)
 
 
 def interrupt(process, timeout=15, signal_number=signal.SIGINT):

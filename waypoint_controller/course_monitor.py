@@ -56,7 +56,8 @@ class CourseMonitor(GuardedNode):
         self._total = len(waypoints)
         self._done = 0
         self._status_clock = StatusClock()
-        self._sim_started = 0.0
+        # STARTED, and its odometry stamp once odometry has come to date it by.
+        self._started = self._sim_started = None
         self._wall_started = None
         self._progress_shown = False
         self.recording = (BagRecording(self, params['bag'], inputs=[path]) if params['bag']
@@ -75,6 +76,8 @@ class CourseMonitor(GuardedNode):
                                    throttle_duration_sec=5.0)
             return
         self._status_clock.odometry(stamp, pose)
+        if self._started is not None and self._sim_started is None:
+            self._sim_started = self._status_clock.date(self._started)
 
     def _on_status(self, message):
         if self.finished.done():
@@ -91,7 +94,7 @@ class CourseMonitor(GuardedNode):
         date = self._status_clock.date(text)
         if kind == STARTED:
             self._wall_started = time.monotonic()
-            self._sim_started = date
+            self._started, self._sim_started = text, date
         elif kind == WAYPOINT:
             self._done += 1
         self._clear_progress()
@@ -104,10 +107,12 @@ class CourseMonitor(GuardedNode):
 
     def _progress_text(self, sim_time=None):
         sim_time = self._status_clock.now if sim_time is None else sim_time
+        run_time = (0.0 if sim_time is None or self._sim_started is None
+                    else sim_time - self._sim_started)
         wall = 0.0 if self._wall_started is None else time.monotonic() - self._wall_started
         filled = round(BAR_WIDTH * self._done / self._total)
         return (f'[{"#" * filled}{"." * (BAR_WIDTH - filled)}] {self._done}/{self._total} '
-                f'waypoints | sim {sim_time - self._sim_started:.1f} s | '
+                f'waypoints | sim {run_time:.1f} s | '
                 f'wall {wall:.1f} s')
 
     def _show_progress(self):

@@ -43,12 +43,14 @@ class StatusClock:
     so the time of arrival is not the time of the event. The reported pose is matched against
     recent odometry instead: the message is dated by the first stamp of the latest stretch of
     odometry showing that pose. FINISHED has no pose and shares the last message's date;
-    ABORTED comes at the end of a stall, so it is dated by the latest odometry.
+    ABORTED comes at the end of a stall, so it is dated by the latest odometry. A status that
+    comes before any odometry (a monitor started after the controller hears its STARTED first)
+    has no date yet: date() says None, and the caller asks again once odometry has come.
     """
 
     def __init__(self):
         self._recent = deque(maxlen=RECENT_POSES)
-        self._last_date = 0.0
+        self._last_date = None
 
     def odometry(self, time, pose):
         """Note the pose at a stamp; return False for a repeated stamp, which is ignored."""
@@ -59,11 +61,13 @@ class StatusClock:
 
     @property
     def now(self):
-        """Return the latest odometry stamp, in seconds."""
-        return self._recent[-1][0] if self._recent else 0.0
+        """Return the latest odometry stamp, in seconds; None before any odometry."""
+        return self._recent[-1][0] if self._recent else None
 
     def date(self, text):
-        """Return the time at which the status message text was true."""
+        """Return the time at which the status message text was true; None before odometry."""
+        if not self._recent:
+            return None
         status = parse_status(text)
         if status is not None and status.kind == FINISHED:
             return self._last_date

@@ -198,3 +198,36 @@ def test_a_full_disk_stops_the_recording_not_the_run(ros_context, executor, tmp_
     assert error.strip() == (f'plot_run: error: {record}: the bag ends before its first '
                              'complete chunk (its recording was stopped early, or the disk was '
                              'full): no run in it')
+
+
+def test_a_started_heard_before_any_odometry_is_dated_by_the_odometry(
+        ros_context, executor, tmp_path):
+    """A monitor started after the controller hears its (latched) STARTED first."""
+    course = tmp_path / 'course.txt'
+    course.write_text('2 2 0\n')
+    output = []
+    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
+                            context=ros_context)
+    speaker = Node('speaker', context=ros_context)
+    status = speaker.create_publisher(String, 'robot_status', status_qos(1))
+    odometry = speaker.create_publisher(Odometry, '/robot0/odom', 10)
+    for node in (monitor, speaker):
+        executor.add_node(node)
+    wait_for_subscribers(executor, status)
+    wait_for_subscribers(executor, odometry)
+    status.publish(String(data='STARTED 1.000 2.000 0.00'))
+    spin_until(executor, lambda: output, what='STARTED printed')
+    for seconds, x in ((15, 1.0), (16, 2.0)):
+        message = Odometry()
+        message.header.stamp.sec = seconds
+        message.pose.pose.position.x, message.pose.pose.position.y = x, 2.0
+        message.pose.pose.orientation.w = 1.0
+        odometry.publish(message)
+        spin_until(executor, lambda: (monitor._status_clock.now or 0.0) > seconds - 0.5,
+                   what=f'odometry at {seconds} s')
+    for text in ('WAYPOINT 1 2.000 2.000 0.00', 'FINISHED'):
+        status.publish(String(data=text))
+    executor.spin_until_future_complete(monitor.finished, timeout_sec=10.0)
+    assert monitor.finished.result() == 0
+    monitor.shut_down()
+    assert '1/1 waypoints | sim 1.0 s' in ''.join(output)

@@ -20,7 +20,12 @@ BEHAVIOURS = ('honest', 'early', 'off10', 'silent', 'crash', 'hang', 'ignore_sig
 
 @pytest.fixture(scope='module')
 def batch(tmp_path_factory):
-    """Grade every test submission on two courses at once; give (result, report folder)."""
+    """
+    Grade every test submission on two courses at once; give (result, report folder).
+
+    grade_lab starts as a shell script's background job would, with SIGINT ignored: Ctrl-C
+    must reach the submissions all the same (hang ends on it, and so ends when asked).
+    """
     root = tmp_path_factory.mktemp('batch')
     courses = root / 'courses'
     write_course(courses, 'here', '1.0 2.0 0.0', time_limit=8)
@@ -32,7 +37,7 @@ def batch(tmp_path_factory):
     report = root / 'report'
     result = grade('--courses', courses, '--submissions', groups, '--jobs', 4, '--report',
                    report, '--', sys.executable, STUDENT, '@', '{waypoints}', cwd=root,
-                   timeout=900)
+                   timeout=900, sigint_ignored=True)
     return result, report
 
 

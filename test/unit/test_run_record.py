@@ -95,6 +95,13 @@ def test_status_is_dated_by_the_odometry_showing_its_pose():
     assert clock.date('FINISHED') == pytest.approx(14 * 0.02)
 
 
+def test_a_status_before_any_odometry_waits_for_it():
+    clock = StatusClock()
+    assert clock.now is None and clock.date('STARTED 1.000 2.000 0.00') is None
+    drive(clock, [(1.0, 2.0, 0.0)] * 3, start=15.0)
+    assert clock.date('STARTED 1.000 2.000 0.00') == 15.0
+
+
 def test_status_without_a_matching_pose_is_dated_now():
     clock = StatusClock()
     drive(clock, [(1.0, 2.0, 0.0), (1.1, 2.0, 0.0)])

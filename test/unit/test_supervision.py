@@ -1,5 +1,6 @@
 """Commands stopped whatever they do: ignore Ctrl-C, fork into a session of their own, flood."""
 
+import signal
 import sys
 
 from lab_grader import supervision
@@ -29,6 +30,18 @@ def test_ctrl_c_first(tmp_path):
     assert (ended_by, leftovers) == ('SIGINT', []) and seconds < 1.0
     assert command.exit_code == -2 and not command.running
     assert any('KeyboardInterrupt' in line for line in command.last_lines)
+
+
+def test_ctrl_c_reaches_a_command_whatever_the_grader_inherited(tmp_path):
+    """A grader run as a script's background job ignores SIGINT; its commands must not."""
+    ignored = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, [signal.SIGTERM])
+    try:
+        command = python(tmp_path, 'print("ready", flush=True)\nsignal.pause()')
+    finally:
+        signal.signal(signal.SIGINT, ignored)
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+    assert command.stop()[0] == 'SIGINT' and command.exit_code == -2
 
 
 def test_a_command_ignoring_ctrl_c_ends_by_sigterm_and_one_ignoring_both_by_sigkill(tmp_path):
