@@ -114,12 +114,13 @@ def simulator_command(course, settings) -> list[str]:
 class GradingRecorder(GuardedNode):
     """Records the run's topics into its bag, follows robot_status, and plays the simulation."""
 
-    def __init__(self, context, bag, robot_name):
+    def __init__(self, context, bag, robot_name, course_name):
         # Each course's recorder is a node of this process: one rosout publisher per name.
         super().__init__('grade_lab_recorder', context=context, enable_rosout=False)
         self.get_logger().set_level(LoggingSeverity.WARN)
         robot = f'/{robot_name}'
-        self.recording = BagRecording(self, bag, ('/waypoints', '/map'), send_times=True)
+        self.recording = BagRecording(self, bag, ('/waypoints', '/map'), send_times=True,
+                                      course=course_name)
         self.simulator_topics = {f'{robot}/ground_truth': 'nav_msgs/msg/Odometry',
                                  f'{robot}/stall': 'std_msgs/msg/Bool'}
         self.truth_sent = self.truth_heard_at = 0
@@ -165,7 +166,7 @@ class GradingRecorder(GuardedNode):
 
 def run_course(course, settings, folder, stopping: threading.Event) -> RunResult:
     """Run one course for the submission in folder (made if need be) and return its result."""
-    folder = Path(folder)
+    folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)
     waypoints = folder / 'waypoints.txt'
     shutil.copyfile(course.waypoint_file, waypoints)
@@ -211,7 +212,8 @@ class _Run:
 
     def go(self, bag, settings, command, environment, marker):
         try:
-            self.recorder = GradingRecorder(self.context, bag, settings.robot_name)
+            self.recorder = GradingRecorder(self.context, bag, settings.robot_name,
+                                            self.course.waypoint_file.name)
             self.executor = SingleThreadedExecutor(context=self.context)
             self.executor.add_node(self.recorder)
             if not self.spin(lambda: self.recorder.simulator_matched, SIMULATOR_START):

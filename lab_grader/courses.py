@@ -95,7 +95,8 @@ def load_course(path: str | os.PathLike, defaults: Course | None = None) -> Cour
     except WaypointFileError as error:
         raise CourseError(str(error)) from None
     base = defaults or Course('', path, ())
-    course = replace(base, name=path.stem, waypoint_file=path, waypoints=waypoints,
+    # Absolute, as every path a course holds: the submission runs in a folder of its own.
+    course = replace(base, name=path.stem, waypoint_file=path.resolve(), waypoints=waypoints,
                      settings_file=None)
     settings = next((path.with_suffix(suffix) for suffix in YAML_SUFFIXES
                      if path.with_suffix(suffix).is_file()), None)
@@ -125,7 +126,7 @@ def _world_file(source, key, value, folder):
         raise CourseError(f'{source}: {key} must be a file name, got {describe(value)}')
     beside = folder / value
     if beside.is_file():
-        return str(beside)
+        return str(beside.resolve())
     bundled = bundled_files('maps' if key == 'map' else 'robots')
     name = value if value in bundled else Path(value).stem
     if name in bundled and not Path(value).parent.name:

@@ -199,7 +199,8 @@ def main(argv=None):
         problem = command_problem(command, submissions)
         if problem:
             raise CourseError(problem)
-        folder = Path(options.report) if options.report else None
+        # Absolute: each submission runs in its own folder, and is handed paths in this one.
+        folder = Path(options.report).resolve() if options.report else None
         if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
     except (CourseError, OSError) as error:

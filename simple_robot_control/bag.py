@@ -22,6 +22,8 @@ from rosbags.typesys import get_types_from_msg, get_typestore, Stores
 from rosbags.typesys.base import TypesysError
 import yaml
 
+# The metadata record naming the run: {'course': the waypoint file's name}.
+RUN_METADATA = 'simple_robot_control.run'
 # rosbag2's MCAP storage defaults to chunks of about 768 KiB; smaller ones lose less when a
 # recording is killed, at a few bytes of index each.
 CHUNK_SIZE = 256 << 10
@@ -134,6 +136,10 @@ class BagWriter:
             self._stream.close()
         except OSError:
             pass
+
+    def add_metadata(self, name: str, data: dict[str, str]) -> None:
+        """Write a metadata record (MCAP's own: ros2 bag skips it, Foxglove shows it)."""
+        self._guarded(lambda: self._writer.add_metadata(name, data))
 
     def add_topic(self, topic: str, type_name: str, offered_qos: list[dict]) -> int:
         """Add a topic of type_name (pkg/msg/Type); return its channel id."""

@@ -14,7 +14,7 @@ import struct
 from typing import Iterator
 
 from mcap.exceptions import McapError
-from mcap.records import Channel, Message, Schema
+from mcap.records import Channel, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from rosbags.typesys import get_types_from_msg, get_typestore, Stores
 
@@ -65,6 +65,8 @@ class BagMessages:
         self.files = bag_files(path)
         self._topics = frozenset(topics)
         self.cut_short = False
+        # The bag's metadata records by name, as read so far.
+        self.metadata = {}
         self._typestore = get_typestore(Stores.EMPTY)
         self._channels = {}
         self._schemas = {}
@@ -90,7 +92,9 @@ class BagMessages:
             self.cut_short = True
 
     def _take(self, record):
-        if isinstance(record, Schema):
+        if isinstance(record, Metadata):
+            self.metadata[record.name] = dict(record.metadata)
+        elif isinstance(record, Schema):
             self._schemas[record.id] = self._register(record)
         elif isinstance(record, Channel) and record.topic in self._topics:
             self._channels[record.id] = (record.topic, self._schemas.get(record.schema_id))

@@ -18,7 +18,7 @@ import importlib
 
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from simple_robot_control.bag import BagError, BagWriter
+from simple_robot_control.bag import BagError, BagWriter, RUN_METADATA
 from simple_robot_control.input_files import output_problem
 from simple_robot_control.node_runtime import ConfigError
 
@@ -54,14 +54,21 @@ def message_class(type_name):
 
 
 class BagRecording:
-    """Records every topic matching the patterns into the bag at path, for node."""
+    """
+    Records every topic matching the patterns into the bag at path, for node.
 
-    def __init__(self, node, path, patterns=RUN_TOPICS, inputs=(), send_times=False):
+    course, if given, is the name of the run's waypoint file, kept in the bag's metadata.
+    """
+
+    def __init__(self, node, path, patterns=RUN_TOPICS, inputs=(), send_times=False,
+                 course=''):
         problem = output_problem(path, inputs=inputs)
         if problem is not None:
             raise ConfigError(f'bag {path}: {problem}')
         try:
             self.bag = BagWriter(path)
+            if course:
+                self.bag.add_metadata(RUN_METADATA, {'course': course})
         except BagError as error:
             raise ConfigError(str(error)) from None
         self._node = node

@@ -8,6 +8,7 @@ record is a rosbag2 bag in MCAP (bag_recording.py), which plot_run draws.
 
 import dataclasses
 import math
+import os
 import sys
 import time
 
@@ -60,7 +61,8 @@ class CourseMonitor(GuardedNode):
         self._started = self._sim_started = None
         self._wall_started = None
         self._progress_shown = False
-        self.recording = (BagRecording(self, params['bag'], inputs=[path]) if params['bag']
+        self.recording = (BagRecording(self, params['bag'], inputs=[path],
+                                       course=os.path.basename(path)) if params['bag']
                           else None)
         self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
         self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,

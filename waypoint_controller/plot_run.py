@@ -51,7 +51,8 @@ def render_run(record, occupancy_map, robot_radius, output_path, title=None):
     axes.set_xlabel('x [m]')
     axes.set_ylabel('y [m]')
     result = record.result or 'UNFINISHED'
-    axes.set_title(title or f'{record.course}: {result} after {record.duration:.1f} s sim time, '
+    named = f'{record.course}: ' if record.course else ''
+    axes.set_title(title or f'{named}{result} after {record.duration:.1f} s sim time, '
                    f'{len(record.waypoints)} waypoints')
     figure.savefig(output_path, dpi=DPI, format='png')
 
@@ -201,7 +202,8 @@ def _load(args):
         course = load_waypoints(args.course) if args.course else None
     except WaypointFileError as error:
         raise ValueError(str(error)) from None
-    return load_bag(args.record, args.robot_name, course)
+    return load_bag(args.record, args.robot_name, course,
+                    course_name=os.path.basename(args.course) if args.course else '')
 
 
 if __name__ == '__main__':

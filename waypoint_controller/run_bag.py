@@ -11,6 +11,7 @@ import math
 import os
 from pathlib import Path
 
+from simple_robot_control.bag import RUN_METADATA
 from simple_robot_control.bag_reading import BagMessages, BagReadError
 from simple_robot_control.pose import pose_from_message
 from waypoint_controller.run_record import POSE, RunRecord, RunRecordError, StatusClock
@@ -22,9 +23,14 @@ STATUS_TOPIC = '/robot_status'
 
 
 def load_bag(path: str | os.PathLike, robot_name: str = 'robot0', course: list | None = None,
-             distance_tolerance: float = 0.1,
-             angle_tolerance: float = math.radians(5.0)) -> RunRecord:
-    """Read a run from a bag; RunRecordError says in one line what is wrong with it."""
+             distance_tolerance: float = 0.1, angle_tolerance: float = math.radians(5.0),
+             course_name: str = '') -> RunRecord:
+    """
+    Read a run from a bag; RunRecordError says in one line what is wrong with it.
+
+    The run's course is named course_name, else as its recorder named it in the bag's
+    metadata (course_monitor and grade_lab do), else not at all ('').
+    """
     path = Path(path)
     reading = _Reading(f'/{robot_name.strip("/")}/odom')
     try:
@@ -42,7 +48,8 @@ def load_bag(path: str | os.PathLike, robot_name: str = 'robot0', course: list |
                              'controller published it?): give the course file')
     if not reading.poses:
         raise RunRecordError(f'{path}: no odometry on {reading.odometry_topic} in the bag')
-    record = RunRecord(path.name, waypoints, distance_tolerance, angle_tolerance,
+    name = course_name or messages.metadata.get(RUN_METADATA, {}).get('course', '')
+    record = RunRecord(name, waypoints, distance_tolerance, angle_tolerance,
                        reading.times, reading.poses, reading.statuses)
     record.cut_short_line = len(reading.times) if messages.cut_short else None
     record.skipped_lines = reading.skipped

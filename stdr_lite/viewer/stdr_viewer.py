@@ -9,6 +9,7 @@ robot_status. Robots are found by looking at the ROS graph once a second.
 from collections import deque
 import functools
 import math
+import os
 import re
 import sys
 import time
@@ -47,6 +48,8 @@ MAX_CORNERS = 64
 STATUS_SHOWN = 120
 ZOOM_STEP = 1.2
 FRAME_TIMES = 30
+# Where a window can be shown: an X or Wayland display, or an SDL video driver chosen by hand.
+DISPLAY_VARIABLES = ('DISPLAY', 'WAYLAND_DISPLAY', 'SDL_VIDEODRIVER')
 TOPIC_KINDS = {'nav_msgs/msg/Odometry': 'odom', 'sensor_msgs/msg/LaserScan': 'laser',
                'sensor_msgs/msg/Range': 'sonar'}
 # The marker namespaces of obstacle bodies on /stdr_lite/obstacle_markers, and whether each
@@ -121,6 +124,13 @@ class StdrViewer(GuardedNode):
                 raise ConfigError(f'screenshot {self._screenshot}: {problem}')
         pygame.font.init()
         if surface is None:
+            if not any(os.environ.get(name) for name in DISPLAY_VARIABLES):
+                # SDL would look for a display it cannot have and say only 'XDG_RUNTIME_DIR'.
+                os.environ['SDL_VIDEODRIVER'] = 'dummy'
+                self.get_logger().warn(
+                    'no display here (DISPLAY is not set): drawing offscreen, no window; '
+                    '-p screenshot:=view.png saves the last frame on exit (ssh -X, or a '
+                    'desktop, shows the window)')
             pygame.display.init()
             surface = pygame.display.set_mode(size, pygame.RESIZABLE)
             pygame.display.set_caption('stdr_viewer')

@@ -1,6 +1,8 @@
 """The Python API and the node are one simulation: the same commands give the same poses."""
 
 import math
+from pathlib import Path
+import re
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -90,3 +92,17 @@ def test_the_bridge_sees_what_the_environment_sees():
     assert np.array_equal(observe(ranges[None, :], laser.max_range, arena.poses,
                                   arena.courses.goals), observation)
     assert pytest.approx(ranges) == arena.ranges[0]
+
+
+def test_the_python_pages_examples_run_as_shown(tmp_path, monkeypatch):
+    """doc/python.md's blocks, in order and in one namespace, as a reader runs them."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
+    page = Path(__file__).resolve().parents[2] / 'doc' / 'python.md'
+    blocks = re.findall(r'```python\n(.*?)```', page.read_text(), re.DOTALL)
+    assert len(blocks) == 4
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, str(page), 'exec'), namespace)
+    assert namespace['observations'].shape == (100, 69)
+    assert not namespace['rclpy'].ok()

@@ -60,7 +60,7 @@ def test_monitor_prints_each_status_and_a_summary(recorded_run):
 def test_record_holds_the_run(recorded_run):
     course, record_path, _ = recorded_run
     record = load_bag(record_path)
-    assert record.course == record_path.name and len(record.waypoints) == 2
+    assert record.course == 'course.txt' and len(record.waypoints) == 2
     assert record.result == 'FINISHED'
     assert np.all(np.diff(record.times) > 0.0)
     assert record.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
@@ -155,6 +155,7 @@ def test_the_run_exported_as_json_lines_reads_back_the_same(recorded_run, tmp_pa
     assert plot_run([str(record_path), '--output', str(tmp_path / 'run.png'),
                      '--export-jsonl', str(exported)]) == 0
     bag, record = load_bag(record_path), load_run(exported)
+    assert record.course == 'course.txt'
     assert np.allclose([(waypoint.x, waypoint.y, waypoint.theta)
                         for waypoint in bag.waypoints],
                        [(waypoint.x, waypoint.y, waypoint.theta) for waypoint in record.waypoints])
