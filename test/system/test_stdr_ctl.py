@@ -61,7 +61,10 @@ def test_a_robot_file_spawns_by_a_path_relative_to_stdr_ctl(simulator, tmp_path)
         '</robot_specifications></robot>')
     answer = ctl('spawn', 'robots/scanner.xml', '5', '5', '--name', 'turtle', cwd=tmp_path)
     assert (answer.returncode, answer.stdout.strip()) == (0, 'spawned turtle'), answer.stderr
-    assert 'with scan; topics under /turtle' in answer_of('info', 'turtle')
+    info = answer_of('info', 'turtle')
+    assert 'with scan, ' in info and '; topics under /turtle' in info
+    # An STDR-layout file reads as under STDR: its noise is not applied, and info says so.
+    assert "its file's sensor noise not applied, as STDR reads its layout" in info
     assert answer_of('delete', 'turtle') == 'deleted turtle'
 
 
