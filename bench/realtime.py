@@ -29,6 +29,7 @@ from bench.round_trip import round_trip_rtf
 import numpy as np
 import rclpy
 from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -70,11 +71,17 @@ def spin_until(executor, condition, timeout=RUN_TIMEOUT):
 
 
 @contextmanager
-def ros_session():
-    """Give (context, executor) of a Context of their own; destroy every node afterwards."""
+def ros_session(message_info=False):
+    """
+    Give (context, executor) of a Context of their own; destroy every node afterwards.
+
+    The executor is rclpy's EventsExecutor, or with message_info its SingleThreadedExecutor,
+    which hands subscriptions each message's info (its source timestamp) as well.
+    """
     context = Context()
     rclpy.init(context=context)
-    executor = EventsExecutor(context=context)
+    executor = (SingleThreadedExecutor(context=context) if message_info
+                else EventsExecutor(context=context))
     try:
         yield context, executor
     finally:

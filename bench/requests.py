@@ -8,9 +8,11 @@ folder of 200 spawnable files of 16 KB, and a world of 4096 x 4096 cells. The ro
 many sensors as a robot may (32 sonars), each a topic of its own. For each burst it prints the
 longest and the 99th percentile gap between two /clock messages while the burst was served (and
 the same for a while with no requests, to compare), and how long the burst took: medians of
---repeat runs. A new world stands STOPPED with its clock back at 0: the gaps of a world loading
-are those of the old world's steps while the new one loads. The target: no gap beyond one step
-period plus a few milliseconds.
+--repeat runs. Gaps are between the times the simulator sent its /clock messages (their source
+timestamps), so that this process's own work on the requests (serialising 100,000 points
+takes it a fifth of a second) is not taken for the simulator's. A new world stands STOPPED
+with its clock back at 0: the gaps of a world loading are those of the old world's steps while
+the new one loads. The target: no gap beyond 100 ms, five step periods.
 """
 
 import argparse
@@ -38,6 +40,8 @@ from simulation_interfaces.srv import GetEntities, GetSpawnables, LoadWorld, Spa
 from stdr_lite.core.robot_description import MAX_SENSORS
 
 PERIOD = 0.02
+# The longest a request may hold /clock back: five step periods.
+TARGET = 0.1
 SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 SONAR = ('    - {{frame_id: sonar_{}, cone_angle: 0.5, min_range: 0.1, max_range: 3, '
          'frequency: 10}}\n')
@@ -63,7 +67,7 @@ class Client(Node):
     def __init__(self, context):
         super().__init__('request_bench', context=context)
         self.arrivals = []
-        self.create_subscription(Clock, '/clock', self._on_clock, 1000)
+        self.create_subscription(Clock, '/clock', self._on_clock, 1000)  # with its MessageInfo
         self._callers = {}
 
     def call_all(self, executor, kind, service, requests):
@@ -77,8 +81,10 @@ class Client(Node):
         spin_until(executor, lambda: all(future.done() for future in futures))
         return time.monotonic() - started
 
-    def _on_clock(self, message):
-        self.arrivals.append((time.monotonic(), Time.from_msg(message.clock).nanoseconds))
+    def _on_clock(self, message, info):
+        """Note when the simulator sent the clock (wall seconds) and the time it carries."""
+        self.arrivals.append((info['source_timestamp'] * 1e-9,
+                              Time.from_msg(message.clock).nanoseconds))
 
     def gaps(self, since, until):
         """
@@ -136,18 +142,18 @@ def measure_once(folder):
          '--log-level', 'warn'])
     figures = {}
     try:
-        with ros_session() as (context, executor):
+        with ros_session(message_info=True) as (context, executor):
             client = Client(context)
             executor.add_node(client)
             spin_until(executor, lambda: len(client.arrivals) > 50, timeout=60.0)
-            quiet_from = time.monotonic()
-            spin_until(executor, lambda: time.monotonic() > quiet_from + 2.0)
-            gaps = client.gaps(quiet_from, time.monotonic())
+            quiet_from = time.time()
+            spin_until(executor, lambda: time.time() > quiet_from + 2.0)
+            gaps = client.gaps(quiet_from, time.time())
             figures['no requests'] = (gaps.max(), np.percentile(gaps, 99), 2.0)
             for label, kind, service, requests in bursts(folder):
-                started = time.monotonic()
+                started = time.time()
                 seconds = client.call_all(executor, kind, service, requests)
-                gaps = client.gaps(started, time.monotonic())
+                gaps = client.gaps(started, time.time())
                 figures[label] = (gaps.max(), np.percentile(gaps, 99), seconds)
     finally:
         simulator.send_signal(signal.SIGINT)
@@ -167,11 +173,14 @@ def main(argv=None):
         runs = [measure_once(folder) for _ in range(args.repeat)]
     print(f'gaps between /clock messages of stdr_lite at 50 Hz (a step is {PERIOD * 1e3:.0f} ms) '
           f'while a burst of requests is served; medians of {args.repeat} runs')
-    print(f'{"burst":26} {"longest gap":>12} {"p99 gap":>9} {"served in":>10}')
+    print(f'{"burst":26} {"longest gap":>12} {"p99 gap":>9} {"served in":>10}  '
+          f'target ({TARGET * 1e3:.0f} ms)')
     for label in runs[0]:
         longest, p99, seconds = (np.median([run[label][part] for run in runs])
                                  for part in range(3))
-        print(f'{label:26} {longest * 1e3:9.1f} ms {p99 * 1e3:6.1f} ms {seconds:8.2f} s')
+        verdict = 'met' if longest <= TARGET else f'{longest / TARGET:.2f}x over'
+        print(f'{label:26} {longest * 1e3:9.1f} ms {p99 * 1e3:6.1f} ms {seconds:8.2f} s  '
+              f'{verdict}')
 
 
 if __name__ == '__main__':

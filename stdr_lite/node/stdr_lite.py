@@ -281,6 +281,7 @@ class StdrLite(GuardedNode):
 
     def destroy_node(self):
         self._control.destroy()
+        self.requests.close()
         super().destroy_node()
 
     def shut_down(self):
