@@ -24,9 +24,8 @@ from waypoint_controller.waypoint_controller import WaypointController
 COURSE = '2.5 2 0\n2.5 3 90\n'
 
 
-@pytest.fixture
-def recorded_run(ros_context, executor, tmp_path):
-    """Drive a two-waypoint course in lockstep, course_monitor recording its bag; give paths."""
+def start_recorded_run(ros_context, executor, tmp_path):
+    """Start driving a two-waypoint course in lockstep, course_monitor recording its bag."""
     course, record = tmp_path / 'course.txt', tmp_path / 'run.mcap'
     course.write_text(COURSE)
     output = []
@@ -36,10 +35,16 @@ def recorded_run(ros_context, executor, tmp_path):
                             context=ros_context, parameter_overrides=overrides(bag=str(record)))
     for node in (simulator, monitor):
         executor.add_node(node)
-    received = monitor.recording.received
     spin_until(executor, lambda: '/robot0/odom' in monitor.recording.topics, what='the record')
-    controller = WaypointController(str(course), context=ros_context)
-    executor.add_node(controller)
+    executor.add_node(WaypointController(str(course), context=ros_context))
+    return course, record, monitor, output
+
+
+@pytest.fixture
+def recorded_run(ros_context, executor, tmp_path):
+    """Drive a two-waypoint course in lockstep, course_monitor recording its bag; give paths."""
+    course, record, monitor, output = start_recorded_run(ros_context, executor, tmp_path)
+    received = monitor.recording.received
     executor.spin_until_future_complete(monitor.finished, timeout_sec=60.0)
     assert monitor.finished.result() == 0
     spin_until(executor, lambda: received['/waypoints'] and received['/robot_status'] == 4,
@@ -119,19 +124,27 @@ def test_plot_run_writes_the_png_exactly_where_it_is_told(recorded_run):
     assert not output.with_suffix('.png').exists()
 
 
-def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor, tmp_path):
+def monitor_with_speaker(ros_context, executor, course_text, tmp_path):
+    """Give (monitor, its output, status and odometry publishers) on a course of a test's."""
     course = tmp_path / 'course.txt'
-    course.write_text(COURSE)
+    course.write_text(course_text)
     output = []
     monitor = CourseMonitor(str(course), write=output.append, interactive=False,
                             context=ros_context)
     speaker = Node('speaker', context=ros_context)
-    status = speaker.create_publisher(String, 'robot_status', status_qos(2))
+    status = speaker.create_publisher(String, 'robot_status',
+                                      status_qos(len(course_text.splitlines())))
     odometry = speaker.create_publisher(Odometry, '/robot0/odom', 10)
     for node in (monitor, speaker):
         executor.add_node(node)
     wait_for_subscribers(executor, status)
     wait_for_subscribers(executor, odometry)
+    return monitor, output, status, odometry
+
+
+def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor, tmp_path):
+    monitor, output, status, odometry = monitor_with_speaker(ros_context, executor, COURSE,
+                                                             tmp_path)
     broken = Odometry()
     broken.pose.pose.position.x = math.nan
     odometry.publish(broken)
@@ -175,17 +188,7 @@ def test_plot_run_refuses_a_broken_bag_in_one_line(tmp_path, capsys):
 def test_a_full_disk_stops_the_recording_not_the_run(ros_context, executor, tmp_path,
                                                      monkeypatch, capsys):
     fill_up_after(monkeypatch, 16 << 10)
-    course, record = tmp_path / 'course.txt', tmp_path / 'run.mcap'
-    course.write_text(COURSE)
-    output = []
-    simulator = StdrLite(context=ros_context,
-                         parameter_overrides=overrides(lockstep=True, real_time_factor=0.0))
-    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
-                            context=ros_context, parameter_overrides=overrides(bag=str(record)))
-    for node in (simulator, monitor):
-        executor.add_node(node)
-    spin_until(executor, lambda: '/robot0/odom' in monitor.recording.topics, what='the record')
-    executor.add_node(WaypointController(str(course), context=ros_context))
+    _, record, monitor, output = start_recorded_run(ros_context, executor, tmp_path)
     spin_until(executor, lambda: monitor.recording.failed, timeout=60.0,
                what='the disk to fill up')
     executor.spin_until_future_complete(monitor.finished, timeout_sec=60.0)
@@ -204,18 +207,8 @@ def test_a_full_disk_stops_the_recording_not_the_run(ros_context, executor, tmp_
 def test_a_started_heard_before_any_odometry_is_dated_by_the_odometry(
         ros_context, executor, tmp_path):
     """A monitor started after the controller hears its (latched) STARTED first."""
-    course = tmp_path / 'course.txt'
-    course.write_text('2 2 0\n')
-    output = []
-    monitor = CourseMonitor(str(course), write=output.append, interactive=False,
-                            context=ros_context)
-    speaker = Node('speaker', context=ros_context)
-    status = speaker.create_publisher(String, 'robot_status', status_qos(1))
-    odometry = speaker.create_publisher(Odometry, '/robot0/odom', 10)
-    for node in (monitor, speaker):
-        executor.add_node(node)
-    wait_for_subscribers(executor, status)
-    wait_for_subscribers(executor, odometry)
+    monitor, output, status, odometry = monitor_with_speaker(ros_context, executor, '2 2 0\n',
+                                                             tmp_path)
     status.publish(String(data='STARTED 1.000 2.000 0.00'))
     spin_until(executor, lambda: output, what='STARTED printed')
     for seconds, x in ((15, 1.0), (16, 2.0)):
