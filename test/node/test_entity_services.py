@@ -392,3 +392,23 @@ def test_a_moving_obstacle_stops_a_robot_and_shows_in_its_laser(ros_context, exe
     assert simulator.simulation.applied_velocity('robot0') == (0.0, 0.0, 0.0)
     assert scans[-1].ranges[ahead] < 0.2
     assert pose_from_message(odometry[-1].pose.pose)[0] == pytest.approx(robot_x)
+
+
+def test_requests_to_different_services_are_served_in_the_order_they_came(world, executor):
+    """Sent at once: each answer sees exactly the requests sent before it."""
+    _, _, call = world
+    futures = []
+    for round_ in range(5):
+        futures.append(call.client(SpawnEntity, 'spawn_entity').call_async(SpawnEntity.Request(
+            name=f'rock{round_}', uri='obstacle', initial_pose=pose_stamped(8.0, 3.0 + round_))))
+        futures.append(call.client(GetEntities, 'get_entities').call_async(
+            GetEntities.Request()))
+        futures.append(call.client(DeleteEntity, 'delete_entity').call_async(
+            DeleteEntity.Request(entity=f'rock{round_}')))
+        futures.append(call.client(GetEntities, 'get_entities').call_async(
+            GetEntities.Request()))
+    spin_until(executor, lambda: all(future.done() for future in futures),
+               what='every answer')
+    seen = [list(future.result().entities) for future in futures[1::2]]
+    assert seen == [entities for round_ in range(5)
+                    for entities in (['robot0', f'rock{round_}'], ['robot0'])]
