@@ -28,6 +28,8 @@ thread, between its steps.
 
 from collections import deque
 import concurrent.futures
+import contextlib
+import io
 import sys
 import threading
 import time
@@ -69,6 +71,20 @@ def in_thread(function, *args):
             future.set_exception(error)
     threading.Thread(target=work, name='stdr_lite work', daemon=True).start()
     return future
+
+
+def _events_executor(context):
+    """
+    Return rclpy's EventsExecutor in context.
+
+    It enables faulthandler on sys.stderr, which needs a file: a captured stderr (a test's)
+    has none, and the real one stands in while it is made.
+    """
+    try:
+        return EventsExecutor(context=context)
+    except io.UnsupportedOperation:
+        with contextlib.redirect_stderr(sys.__stderr__):
+            return EventsExecutor(context=context)
 
 
 class _Job:
@@ -189,7 +205,7 @@ class RequestQueue:
 
     def _take_requests(self):
         # Events are taken in the order they came, across services, as the jobs must run.
-        executor = EventsExecutor(context=self._node.context)
+        executor = _events_executor(self._node.context)
         executor.add_node(self._intake)
         try:
             while not self._closing.is_set() and self._node.context.ok():

@@ -4,10 +4,11 @@ A lab submission written for grade_lab's tests: it reports on robot_status as to
     python3 student.py BEHAVIOUR WAYPOINT_FILE    (BEHAVIOUR @: the one the file ./behaviour names)
 
 honest reports the pose it is at for every waypoint (right on a course whose waypoints are
-the start pose); early reports each waypoint's own pose, reached or not; off10 reports its
-pose 10 cm off in x; silent never reports; crash fails at once; hang reports STARTED and then
-sleeps forever; ignore_sigint and fork report honestly, then the one ignores Ctrl-C and the
-other leaves a child behind in a session of its own. Its robot_status publisher is rclpy's
+the start pose); careful does too, once its publisher has matched a reader; early reports
+each waypoint's own pose, reached or not; off10 reports its pose 10 cm off in x; silent never
+reports; crash fails at once; hang reports STARTED and then sleeps forever; ignore_sigint and
+fork report honestly, then the one ignores Ctrl-C and the other leaves a child behind in a
+session of its own. Its robot_status publisher is rclpy's
 default (reliable, volatile), as a student's is.
 """
 
@@ -53,6 +54,11 @@ def main(behaviour, waypoint_file):
     poses = []
     node.create_subscription(Odometry, 'robot0/odom', lambda message: poses.append(
         pose_of(message)), 10)
+    if behaviour == 'careful':
+        # Honest, and sure to be heard: DDS matching is asymmetric, so a reader that has
+        # matched this publisher may not yet be matched by it.
+        while not status.get_subscription_count():
+            rclpy.spin_once(node, timeout_sec=0.1)
     print(f'student {behaviour}: waiting for odometry', flush=True)
     while not poses:
         rclpy.spin_once(node, timeout_sec=0.1)

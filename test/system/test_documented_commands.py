@@ -19,9 +19,10 @@ from simulation_interfaces.srv import GetEntities
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 STUDENT = REPOSITORY / 'test' / 'controllers' / 'student.py'
-# Each group's controller.py: the test submission, honest (it reports the pose it is at).
+# Each group's controller.py: the test submission, honest and sure to be heard (this test is
+# about paths, not about a report lost to DDS matching).
 CONTROLLER = ('import runpy, sys\n'
-              f'sys.argv = [{str(STUDENT)!r}, "honest", sys.argv[1]]\n'
+              f'sys.argv = [{str(STUDENT)!r}, "careful", sys.argv[1]]\n'
               f'runpy.run_path({str(STUDENT)!r}, run_name="__main__")\n')
 
 
