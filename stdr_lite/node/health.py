@@ -27,7 +27,8 @@ class HealthWatch:
         self._simulation = simulation
         self._topics = topics
         self._target = real_time_factor
-        self._since = (time.monotonic(), simulation.sim_time)
+        # The pace is measured from the first check on: before it the node was still starting.
+        self._since = None
         self._next_topic = 0
         node.create_timer(CHECK_PERIOD, self.check,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -39,8 +40,10 @@ class HealthWatch:
     def _check_pace(self):
         """Warn with the achieved factor when a paced, free-running simulation lags."""
         now, sim_time = time.monotonic(), self._simulation.sim_time
-        achieved = (sim_time - self._since[1]) / max(now - self._since[0], 1e-9)
-        self._since = (now, sim_time)
+        since, self._since = self._since, (now, sim_time)
+        if since is None:
+            return
+        achieved = (sim_time - since[1]) / max(now - since[0], 1e-9)
         if self._target > 0.0 and self._playing() and achieved < BEHIND * self._target:
             count = len(self._simulation.names)
             remedy = ('lower rate_hz or the robot count, or use lockstep' if count
