@@ -57,8 +57,8 @@ class CourseMonitor(GuardedNode):
         self._total = len(waypoints)
         self._done = 0
         self._status_clock = StatusClock()
-        # STARTED, and its odometry stamp once odometry has come to date it by.
-        self._started = self._sim_started = None
+        # The odometry stamp of STARTED, once there is odometry to date it by.
+        self._sim_started = None
         self._wall_started = None
         self._progress_shown = False
         self.recording = (BagRecording(self, params['bag'], inputs=[path],
@@ -78,8 +78,9 @@ class CourseMonitor(GuardedNode):
                                    throttle_duration_sec=5.0)
             return
         self._status_clock.odometry(stamp, pose)
-        if self._started is not None and self._sim_started is None:
-            self._sim_started = self._status_clock.date(self._started)
+        for date, text in self._status_clock.dated_late():
+            if parse_status(text).kind == STARTED:
+                self._sim_started = date
 
     def _on_status(self, message):
         if self.finished.done():
@@ -96,7 +97,7 @@ class CourseMonitor(GuardedNode):
         date = self._status_clock.date(text)
         if kind == STARTED:
             self._wall_started = time.monotonic()
-            self._started, self._sim_started = text, date
+            self._sim_started = date
         elif kind == WAYPOINT:
             self._done += 1
         self._clear_progress()

@@ -64,8 +64,6 @@ class _Reading:
         self.course = None
         self.times, self.poses, self.statuses, self.skipped = [], [], [], []
         self._clock = StatusClock()
-        # Statuses recorded before any odometry: dated once the first odometry is read.
-        self._undated = []
 
     def take(self, item, number):
         if item.topic == self.odometry_topic and item.type_name == 'nav_msgs/msg/Odometry':
@@ -82,17 +80,14 @@ class _Reading:
         if _on_the_map(pose) and self._clock.odometry(time, pose):
             self.times.append(time)
             self.poses.append(pose)
-            for text in self._undated:
-                self.statuses.append((self._clock.date(text), text))
-            self._undated = []
+            self.statuses += self._clock.dated_late()
 
     def _status(self, text, number):
-        date = self._clock.date(text)
         if parse_status(text) is None:
             self.skipped.append(number)
-        elif date is None:
-            self._undated.append(text)
-        else:
+            return
+        date = self._clock.date(text)  # None before any odometry: dated_late() gives it then
+        if date is not None:
             self.statuses.append((date, text))
 
     def _course(self, message):

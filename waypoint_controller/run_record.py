@@ -45,12 +45,14 @@ class StatusClock:
     odometry showing that pose. FINISHED has no pose and shares the last message's date;
     ABORTED comes at the end of a stall, so it is dated by the latest odometry. A status that
     comes before any odometry (a monitor started after the controller hears its STARTED first)
-    has no date yet: date() says None, and the caller asks again once odometry has come.
+    has no date yet: date() says None, and dated_late() gives it its date once odometry came.
     """
 
     def __init__(self):
         self._recent = deque(maxlen=RECENT_POSES)
         self._last_date = None
+        # Statuses heard before any odometry, in the order they came.
+        self._waiting = []
 
     def odometry(self, time, pose):
         """Note the pose at a stamp; return False for a repeated stamp, which is ignored."""
@@ -67,6 +69,7 @@ class StatusClock:
     def date(self, text):
         """Return the time at which the status message text was true; None before odometry."""
         if not self._recent:
+            self._waiting.append(text)
             return None
         status = parse_status(text)
         if status is not None and status.kind == FINISHED:
@@ -75,6 +78,13 @@ class StatusClock:
         if status is not None and status.kind in (STARTED, WAYPOINT):
             self._last_date = self._first_stamp_showing(*status.pose)
         return self._last_date
+
+    def dated_late(self):
+        """Return (date, text) of each status that waited for odometry, once it has come."""
+        if not self._recent:
+            return []
+        waiting, self._waiting = self._waiting, []
+        return [(self.date(text), text) for text in waiting]
 
     def _first_stamp_showing(self, x, y, theta):
         first = None
