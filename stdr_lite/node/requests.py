@@ -49,7 +49,6 @@ PUMP_PERIOD = 0.001
 POLL_PERIOD = 0.005
 # How long the intake thread waits for a request before it looks whether it should end.
 INTAKE_WAIT = 0.1
-SWITCH_INTERVAL = 0.0005
 # What a job yields while it waits for work done elsewhere.
 WAIT = 'wait'
 
@@ -163,9 +162,6 @@ class RequestQueue:
             cli_args=['--ros-args', '-r', f'__node:={node.get_name()}_requests'],
             start_parameter_services=False, enable_rosout=False)
         self._closing = threading.Event()
-        # While the intake thread converts a large request, the simulator's thread waits this
-        # long for the interpreter at each call that lets it go (Python's default is 5 ms).
-        sys.setswitchinterval(SWITCH_INTERVAL)
         self._thread = threading.Thread(target=self._take_requests, name='stdr_lite requests',
                                         daemon=True)
         self._thread.start()

@@ -43,6 +43,8 @@ LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 # nav_msgs/GetMap under the names code waits for: nav2_map_server's, and ROS 1's map_server's.
 MAP_SERVICES = ('map_server/map', 'static_map')
+# How long a thread may hold the interpreter while another waits for it (Python's: 5 ms).
+SWITCH_INTERVAL = 0.0005
 
 
 class StdrLite(GuardedNode):
@@ -298,14 +300,17 @@ class StdrLite(GuardedNode):
 
 def built_simulator(options) -> StdrLite:
     """
-    Build the node, then set what it holds apart from the garbage collector's full passes.
+    Build the node, then tune the interpreter for a large request taken beside the loop.
 
-    A large request makes objects by the hundred thousand, and each full pass the collector
-    then makes walks every object of the process with the interpreter held: 35 to 47 ms here,
-    /clock held as long. Frozen, the libraries and the world are left out: about 10 ms.
-    (Not in the node itself: frozen objects are never freed, and tests build many nodes.)
+    While the requests' thread converts one (requests.py), the simulator's thread waits for the
+    interpreter at each call that lets it go: SWITCH_INTERVAL rather than Python's 5 ms. A
+    request of a hundred thousand objects also sets off the garbage collector's full passes,
+    each walking every object of the process with the interpreter held (35 to 47 ms here):
+    frozen once built, the libraries and the world are left out (about 10 ms). Process-wide,
+    so here, not in the node: frozen objects are never freed, and tests build many nodes.
     """
     node = StdrLite()
+    sys.setswitchinterval(SWITCH_INTERVAL)
     gc.collect()
     gc.freeze()
     return node
