@@ -11,12 +11,15 @@ each check is a test case of the course's suite. No ROS here.
 
 import json
 import math
+import re
 from xml.etree import ElementTree
 
 from lab_grader.grading import ERROR, PASS
 from lab_grader.verdicts import HEADING_MATCH, LATENCY, POSITION_MATCH, SLACK
 
 MARKS = {PASS: 'PASS', 'fail': 'FAIL', ERROR: 'ERROR'}
+# The characters XML 1.0 has no place for: control codes but tab, newline and return.
+_NOT_IN_XML = re.compile('[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]')
 RULES = (f'a report counts if, between {LATENCY:g} s of sim time before it was sent and '
          f'{SLACK:g} s after, the robot stood in the goal set at the pose reported (within '
          f'{POSITION_MATCH * 100:g} cm and {math.degrees(HEADING_MATCH):g}°)')
@@ -89,6 +92,11 @@ def _output_tail(verdict):
     return '\n'.join(verdict.outcome.last_lines[-20:])
 
 
+def _xml_text(text):
+    """Return text with what XML 1.0 cannot hold (a terminal's escape codes) as U+FFFD."""
+    return _NOT_IN_XML.sub('\ufffd', text)
+
+
 def junit_xml(submissions) -> bytes:
     """Return JUnit XML: a suite per submission and course, a test case per check."""
     root = ElementTree.Element('testsuites', name='grade_lab')
@@ -102,17 +110,18 @@ def junit_xml(submissions) -> bytes:
             if verdict.error:
                 case = ElementTree.SubElement(suite, 'testcase', classname=suite_name,
                                               name='run')
-                ElementTree.SubElement(case, 'error', message=verdict.error)
+                ElementTree.SubElement(case, 'error', message=_xml_text(verdict.error))
                 counts.update(tests=1, errors=1)
             for check in verdict.checks:
                 case = ElementTree.SubElement(suite, 'testcase', classname=suite_name,
                                               name=check.name)
                 counts['tests'] += 1
                 if not check.passed:
-                    failure = ElementTree.SubElement(case, 'failure', message=check.evidence)
-                    failure.text = check.evidence
+                    evidence = _xml_text(check.evidence)
+                    failure = ElementTree.SubElement(case, 'failure', message=evidence)
+                    failure.text = evidence
                     counts['failures'] += 1
-            ElementTree.SubElement(suite, 'system-out').text = _output_tail(verdict)
+            ElementTree.SubElement(suite, 'system-out').text = _xml_text(_output_tail(verdict))
             for key, value in counts.items():
                 suite.set(key, str(value))
                 totals[key] += value

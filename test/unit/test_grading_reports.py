@@ -50,6 +50,15 @@ def test_junit_has_a_suite_per_course_and_a_case_per_check():
     assert failure.get('message') == 'never sent'
 
 
+def test_junit_holds_a_submissions_terminal_colours_as_well_formed_xml():
+    """A submission's output (Fast DDS colours its errors) is evidence: the XML must parse."""
+    coloured = verdict('one', [Check('FINISHED', False, 'crashed: \x1b[31;1mError\x1b[m')])
+    coloured.outcome = ProcessOutcome(seconds=1.5, last_lines=('\x1b[37;1m[RTPS] \x07boom',))
+    root = ElementTree.fromstring(junit_xml([SubmissionVerdict('g', [coloured])]))
+    assert root[0].find('testcase/failure').get('message') == 'crashed: \ufffd[31;1mError\ufffd[m'
+    assert root[0].find('system-out').text == '\ufffd[37;1m[RTPS] \ufffdboom'
+
+
 def test_the_graders_results_add_up():
     group_a = groups()[0]
     gradescope = json.loads(gradescope_results(group_a))
