@@ -17,7 +17,8 @@ setup(
     name=PACKAGE_NAME,
     version='0.1.0',
     packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
-                                    'waypoint_controller', 'lab_grader']),
+                                    'waypoint_lab', 'waypoint_lab.*', 'waypoint_controller',
+                                    'lab_grader']),
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),

@@ -20,10 +20,11 @@ from bench.courses import (drive, LEG_KINDS, Loop, lower_bound, random_course, t
                            TYPICAL_DRIFT)
 from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import numpy as np
-from waypoint_controller.control_law import (ControllerConfig, CourseFollower, FollowerStep,
-                                             in_goal_set, wrap)
+from simple_robot_control.pose import wrap_angle as wrap
+from waypoint_controller.control_law import ControllerConfig, CourseFollower, FollowerStep
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import plan_to_goal_set
+from waypoint_lab.course import in_goal_set
 
 
 class RotateDriveRotate:
@@ -41,8 +42,10 @@ class RotateDriveRotate:
 
     def check(self, pose):
         reached = []
-        while (not self.finished
-               and in_goal_set(pose, self.waypoints[self.next_index], self.config)):
+        config = self.config
+        while not self.finished and in_goal_set(pose, self.waypoints[self.next_index],
+                                                config.distance_tolerance,
+                                                config.angle_tolerance):
             reached.append(self.next_index)
             self.next_index += 1
         return tuple(reached)

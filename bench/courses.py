@@ -11,10 +11,11 @@ from dataclasses import dataclass, field
 import math
 
 import numpy as np
+from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from stdr_lite.core.odometry import Odometry, OdometryNoise
-from waypoint_controller.control_law import FollowerStep, wrap
-from waypoint_controller.waypoints import Waypoint
+from waypoint_controller.control_law import FollowerStep
+from waypoint_lab.waypoints import Waypoint
 
 LEG_KINDS = ('open', 'behind', 'lateral', 'rotation')
 LEG_WEIGHTS = (0.55, 0.15, 0.15, 0.15)

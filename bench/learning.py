@@ -3,7 +3,7 @@ Steps per second of the Gymnasium environments, beside IR-SIM on the same scenar
 
 The scenario: the lab's room (20 m x 15 m, walls round it), the lab's robot (a 0.2 m disc,
 unicycle) with a 64-ray laser over +-120 degrees reaching 4.09 m, stepped at 10 Hz with a
-random action each step, episodes starting again as they end. stdr_lite/Waypoints-v0 is made
+random action each step, episodes starting again as they end. waypoint_lab/Waypoints-v0 is made
 with gym.make (its wrappers included); the vector with 100 robots with gym.make_vec. IR-SIM
 (on PyPI as ir-sim, installed by this benchmark into a virtual environment of its own in the
 package's cache folder, never into ours) runs the same room as four wall rectangles and the same
@@ -21,7 +21,7 @@ import time
 
 import gymnasium as gym
 import numpy as np
-import stdr_lite.learning  # noqa: F401  (registers the environments)
+import waypoint_lab.learning  # noqa: F401  (registers the environments)
 
 STEPS = 3000
 VECTOR_STEPS = 300
@@ -108,14 +108,14 @@ def irsim_rates():
 
 def main():
     rng = np.random.default_rng(0)
-    single = gym.make('stdr_lite/Waypoints-v0')
+    single = gym.make('waypoint_lab/Waypoints-v0')
     single_rate(single, rng, 200)
     singles = [single_rate(single, rng, STEPS) for _ in range(REPEATS)]
-    vector = gym.make_vec('stdr_lite/Waypoints-v0', num_envs=ROBOTS,
+    vector = gym.make_vec('waypoint_lab/Waypoints-v0', num_envs=ROBOTS,
                           vectorization_mode='vector_entry_point')
     vector_rate(vector, rng, 20)
     vectors = [vector_rate(vector, rng, VECTOR_STEPS) for _ in range(REPEATS)]
-    print(f'stdr_lite/Waypoints-v0, one robot, 64-ray laser: median '
+    print(f'waypoint_lab/Waypoints-v0, one robot, 64-ray laser: median '
           f'{statistics.median(singles):,.0f} steps/s (runs: '
           f'{", ".join(f"{rate:,.0f}" for rate in singles)}; target 5,000)')
     print(f'vector of {ROBOTS} robots in one world: median {statistics.median(vectors):,.0f} '

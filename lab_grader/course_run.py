@@ -17,7 +17,6 @@ import threading
 import time
 import uuid
 
-from lab_grader.evidence import STATUS_TOPIC
 from lab_grader.supervision import Supervised
 from lab_grader.verdicts import ProcessOutcome
 import rclpy
@@ -34,7 +33,8 @@ from simple_robot_control.share import installed_executable, shared_file
 from simulation_interfaces.msg import Result, SimulationState
 from simulation_interfaces.srv import SetSimulationState
 from std_msgs.msg import String
-from waypoint_controller.status import parse_status
+from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.status import parse_status
 
 PLACEHOLDER = '{waypoints}'
 # Everything the run is judged by is kept, however far behind the recorder falls (a lockstep
@@ -119,7 +119,7 @@ class GradingRecorder(GuardedNode):
         super().__init__('grade_lab_recorder', context=context, enable_rosout=False)
         self.get_logger().set_level(LoggingSeverity.WARN)
         robot = f'/{robot_name}'
-        self.recording = BagRecording(self, bag, ('/waypoints', '/map'), send_times=True,
+        self.recording = BagRecording(self, bag, (f'/{COURSE_TOPIC}', '/map'), send_times=True,
                                       course=course_name)
         self.simulator_topics = {f'{robot}/ground_truth': 'nav_msgs/msg/Odometry',
                                  f'{robot}/stall': 'std_msgs/msg/Bool'}
@@ -130,7 +130,7 @@ class GradingRecorder(GuardedNode):
         self.ended_at = None
         # A transient-local status publisher (the lab's controller's) replays to the second
         # subscription what the first missed while the publisher's side of the match lagged.
-        self.recording.record_now(STATUS_TOPIC, 'std_msgs/msg/String', JUDGED_QOS,
+        self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String', JUDGED_QOS,
                                   self._on_status, STATUS_HISTORY)
         self._set_state = self.create_client(SetSimulationState,
                                              '/stdr_lite/set_simulation_state')
@@ -143,7 +143,7 @@ class GradingRecorder(GuardedNode):
 
     @property
     def status_publishers(self) -> int:
-        return self.recording.subscription(STATUS_TOPIC).get_publisher_count()
+        return self.recording.subscription(f'/{STATUS_TOPIC}').get_publisher_count()
 
     def _on_truth(self, _, sent):
         self.truth_sent, self.truth_heard_at = sent, time.monotonic()

@@ -4,11 +4,11 @@ The courses a submission is graded on: waypoint files, each with an optional YAM
 A course is a waypoint file of the lab's format (course.txt). A YAML file of the same name
 (course.yaml) may say where the robot starts, in which world, how long the submission has,
 what the course is worth and which limits are graded; anything it leaves out takes the
-grader's defaults, the lab's own: the bundled lab_room, the robot at (1, 2, 0), d = 0.1 m and
-t = 5 degrees. Angles are in degrees, as in waypoint files. No ROS here.
+grader's defaults, the lab's own (waypoint_lab/course.py): the bundled lab_room, the robot at
+the lab's start, the lab's d and t. Angles are in degrees, as in waypoint files. No ROS here.
 """
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 import difflib
 import math
 import os
@@ -17,7 +17,8 @@ from pathlib import Path
 from simple_robot_control.input_files import read_yaml
 from simple_robot_control.share import bundled_files
 from simple_robot_control.validation import Bounds, describe
-from waypoint_controller.waypoints import load_waypoints, Waypoint, WaypointFileError
+from waypoint_lab.course import Course
+from waypoint_lab.waypoints import load_waypoints, WaypointFileError
 
 COURSE_SUFFIX = '.txt'
 YAML_SUFFIXES = ('.yaml', '.yml')
@@ -25,34 +26,15 @@ MAX_COURSES = 1000
 # A course on the bundled map lies within it; any map's within a thousand kilometres.
 POSITION = Bounds(-1e6, 1e6)
 HEADING_DEGREES = Bounds(-3600.0, 3600.0)
-TIME_LIMIT = Bounds(1.0, 86400.0)
+TIME_LIMIT_RANGE = Bounds(1.0, 86400.0)
 POINTS = Bounds(0.0, 1e6)
-DISTANCE_TOLERANCE = Bounds(0.0, 10.0, low_open=True)
+DISTANCE_TOLERANCE_RANGE = Bounds(0.0, 10.0, low_open=True)
 ANGLE_TOLERANCE_DEGREES = Bounds(0.0, 180.0, low_open=True)
 GRADED_LIMIT = Bounds(0.0, 1e6, low_open=True)
 
 
 class CourseError(ValueError):
     """A course that cannot be graded; the message is one line naming the file and field."""
-
-
-@dataclass(frozen=True)
-class Course:
-    """One course: its waypoints, its world, and how it is graded (SI units, radians)."""
-
-    name: str
-    waypoint_file: Path
-    waypoints: tuple[Waypoint, ...]
-    start: tuple[float, float, float] = (1.0, 2.0, 0.0)
-    map_file: str = ''
-    robot_file: str = ''
-    time_limit: float = 120.0
-    points: float = 1.0
-    distance_tolerance: float = 0.1
-    angle_tolerance: float = math.radians(5.0)
-    max_time: float | None = None
-    max_path_length: float | None = None
-    settings_file: Path | None = field(default=None, compare=False)
 
 
 def find_courses(paths: list[str | os.PathLike], defaults: Course | None = None) -> list[Course]:
@@ -78,7 +60,7 @@ def find_courses(paths: list[str | os.PathLike], defaults: Course | None = None)
             raise CourseError(f'{path}: no such course file or folder')
         if len(files) > MAX_COURSES:
             raise CourseError(f'{path}: more than {MAX_COURSES} courses')
-    courses = [load_course(file, defaults) for file in files]
+    courses = [read_course(file, defaults) for file in files]
     names = [course.name for course in courses]
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
@@ -87,14 +69,14 @@ def find_courses(paths: list[str | os.PathLike], defaults: Course | None = None)
     return courses
 
 
-def load_course(path: str | os.PathLike, defaults: Course | None = None) -> Course:
+def read_course(path: str | os.PathLike, defaults: Course | None = None) -> Course:
     """Read one course: its waypoint file, and the YAML of the same name if there is one."""
     path = Path(path)
     try:
         waypoints = tuple(load_waypoints(path))
     except WaypointFileError as error:
         raise CourseError(str(error)) from None
-    base = defaults or Course('', path, ())
+    base = defaults or Course('', ())
     # Absolute, as every path a course holds: the submission runs in a folder of its own.
     course = replace(base, name=path.stem, waypoint_file=path.resolve(), waypoints=waypoints,
                      settings_file=None)
@@ -162,10 +144,10 @@ _FIELDS = {
     'robot': lambda source, value, folder: {'robot_file': _world_file(source, 'robot', value,
                                                                       folder)},
     'time_limit': lambda source, value, _: {'time_limit': _number(source, 'time_limit', value,
-                                                                  TIME_LIMIT)},
+                                                                  TIME_LIMIT_RANGE)},
     'points': lambda source, value, _: {'points': _number(source, 'points', value, POINTS)},
     'distance_tolerance': lambda source, value, _: {'distance_tolerance': _number(
-        source, 'distance_tolerance', value, DISTANCE_TOLERANCE)},
+        source, 'distance_tolerance', value, DISTANCE_TOLERANCE_RANGE)},
     'angle_tolerance_deg': lambda source, value, _: {'angle_tolerance': math.radians(_number(
         source, 'angle_tolerance_deg', value, ANGLE_TOLERANCE_DEGREES))},
     'max_time': lambda source, value, _: {'max_time': _number(source, 'max_time', value,

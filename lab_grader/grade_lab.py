@@ -21,8 +21,8 @@ import tempfile
 import threading
 
 from lab_grader.course_run import PLACEHOLDER, run_course, RunSettings
-from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, Course, CourseError,
-                                DISTANCE_TOLERANCE, find_courses, TIME_LIMIT)
+from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, CourseError,
+                                DISTANCE_TOLERANCE_RANGE, find_courses, TIME_LIMIT_RANGE)
 from lab_grader.grading import grade_course, PASS, SubmissionVerdict
 from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
@@ -33,6 +33,7 @@ from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK
 from simple_robot_control.share import shared_file
 from simple_robot_control.validation import Bounds, compact, is_ros_name
+from waypoint_lab.course import ANGLE_TOLERANCE, Course, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
 REAL_TIME_FACTOR = Bounds(0.0, 100.0)
@@ -65,12 +66,14 @@ def build_parser():
     parser.add_argument('--real-time-factor', type=float, default=1.0, help='sim seconds per '
                         'wall second (default 1: student code runs on wall time; 0, as fast as '
                         'it goes, needs --lockstep)')
-    parser.add_argument('--time-limit', type=float, default=120.0, help='wall seconds a '
-                        "course may take (default 120; a course's YAML may set its own)")
-    parser.add_argument('--distance-tolerance', type=float, default=0.1,
-                        help="goal set radius d [m] (default 0.1, the lab's)")
-    parser.add_argument('--angle-tolerance', type=float, default=5.0,
-                        help="goal set heading tolerance t [degrees] (default 5, the lab's)")
+    parser.add_argument('--time-limit', type=float, default=TIME_LIMIT, help='wall seconds a '
+                        f"course may take (default {TIME_LIMIT:g}; a course's YAML may set its "
+                        'own)')
+    parser.add_argument('--distance-tolerance', type=float, default=DISTANCE_TOLERANCE,
+                        help=f"goal set radius d [m] (default {DISTANCE_TOLERANCE:g}, the lab's)")
+    parser.add_argument('--angle-tolerance', type=float, default=math.degrees(ANGLE_TOLERANCE),
+                        help='goal set heading tolerance t [degrees] (default '
+                        f"{math.degrees(ANGLE_TOLERANCE):g}, the lab's)")
     parser.add_argument('--robot-name', default='robot0', help='the robot (default robot0)')
     return parser
 
@@ -92,8 +95,8 @@ def parse(argv):
         REAL_TIME_FACTOR.problem('--real-time-factor', options.real_time_factor),
         options.real_time_factor == 0.0 and not options.lockstep
         and '--real-time-factor 0 needs --lockstep (the simulator would outrun the controller)',
-        TIME_LIMIT.problem('--time-limit', options.time_limit),
-        DISTANCE_TOLERANCE.problem('--distance-tolerance', options.distance_tolerance),
+        TIME_LIMIT_RANGE.problem('--time-limit', options.time_limit),
+        DISTANCE_TOLERANCE_RANGE.problem('--distance-tolerance', options.distance_tolerance),
         ANGLE_TOLERANCE_DEGREES.problem('--angle-tolerance', options.angle_tolerance),
         not is_ros_name(options.robot_name) and f'--robot-name {options.robot_name!r} is no '
         'ROS name',
@@ -190,7 +193,7 @@ def main(argv=None):
     os.environ['ROS_STATIC_PEERS'] = ''
     os.environ.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE',
                           shared_file('config', 'fastdds_quick_discovery.xml'))
-    defaults = Course('', Path(), (), time_limit=options.time_limit,
+    defaults = Course('', (), time_limit=options.time_limit,
                       distance_tolerance=options.distance_tolerance,
                       angle_tolerance=math.radians(options.angle_tolerance))
     try:

@@ -9,10 +9,9 @@ submission's, and a grading with an error is not a pass either.
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from lab_grader.courses import Course
-from lab_grader.evidence import read_evidence, RunEvidence
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
-from simple_robot_control.bag_reading import BagReadError
+from waypoint_lab.course import Course
+from waypoint_lab.run import read_run, Run, RunError
 
 PASS, FAIL, ERROR = 'pass', 'fail', 'error'
 
@@ -29,7 +28,7 @@ class CourseVerdict:
     path_length: float | None = None
     folder: Path | None = None
     picture_problem: str = ''
-    evidence: RunEvidence | None = field(default=None, repr=False)
+    run: Run | None = field(default=None, repr=False)
 
     @property
     def status(self) -> str:
@@ -72,18 +71,18 @@ def grade_course(course: Course, outcome: ProcessOutcome, bag: Path, error: str 
     """Judge a course's run from its bag and the submission's outcome (and keep what it read)."""
     verdict = CourseVerdict(course, outcome=outcome, error=error, folder=bag.parent)
     try:
-        evidence = verdict.evidence = read_evidence(bag, robot_name)
-    except BagReadError as problem:
+        run = verdict.run = read_run(bag, robot_name, 'ground_truth', course)
+    except RunError as problem:
         verdict.error = error or f'the run cannot be judged: {problem}'
         return verdict
     if error:
         return verdict
-    if evidence.missing_steps:
-        verdict.error = (f"the recorder lost {evidence.missing_steps} of the simulator's true "
+    if run.missing_steps:
+        verdict.error = (f"the recorder lost {run.missing_steps} of the simulator's true "
                          'poses (the machine was too busy): grade again with fewer --jobs or a '
                          'lower --real-time-factor')
         return verdict
-    judge = Judge(course, evidence, outcome)
+    judge = Judge(course, run, outcome)
     verdict.checks = judge.checks()
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict

@@ -13,27 +13,21 @@ from lab_grader.reports import figures, MARKS, RULES, terminal_table
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot, RobotFileError
-from waypoint_controller.plot_run import render_run
-from waypoint_controller.run_record import RunRecord
+from waypoint_lab.plot_run import render_run
 
 LAB_ROBOT_RADIUS = 0.2
 
 
 def draw_course(verdict) -> str:
     """Draw a judged course's run as run.png beside its bag; return why not, or ''."""
-    course, folder, evidence = verdict.course, verdict.folder, verdict.evidence
-    if evidence is None or not len(evidence.times):
+    course, folder, run = verdict.course, verdict.folder, verdict.run
+    if run is None or not len(run.times):
         return 'no true path was recorded'
     try:
         radius = (load_robot(course.robot_file, (shared_file(*BUNDLED_RESOURCES),)).radius
                   if course.robot_file else LAB_ROBOT_RADIUS)
-        record = RunRecord(course.name, list(course.waypoints), course.distance_tolerance,
-                           course.angle_tolerance, evidence.times.tolist(),
-                           [tuple(pose) for pose in evidence.poses.tolist()],
-                           [(report.time, report.text) for report in evidence.reports
-                            if report.status is not None])
         occupancy_map = load_map(course.map_file or shared_file(*BUNDLED_MAP))
-        render_run(record, occupancy_map, radius, folder / 'run.png',
+        render_run(run, occupancy_map, radius, folder / 'run.png',
                    f'{course.name}: {MARKS[verdict.status]}, the true path and the poses '
                    'reported')
     except (MapError, RobotFileError, OSError, ValueError) as error:

@@ -1,9 +1,10 @@
 """
-The tick-off sheet's rules: each check of a course, judged from the run's evidence. No ROS here.
+The tick-off sheet's rules: each check of a course, judged from its recorded run. No ROS here.
 
-A status message is judged against the robot's true path around the time it was sent (see
-evidence.py): from LATENCY before (the controller's reaction: the odometry it acts on is older
-than the message) to SLACK after (a step's truth and odometry go out one after the other). A
+A status message is judged against the robot's true path around its date (the sim time at
+which it was sent: waypoint_lab/run.py), from LATENCY before (the controller's reaction: the
+odometry it acts on is older than the message) to SLACK after (a step's truth and odometry go
+out one after the other). A
 report passes when in that window the robot stood in the waypoint's goal set, at the pose it
 reported (within POSITION_MATCH and HEADING_MATCH: the lab prints poses to a few millimetres).
 """
@@ -12,7 +13,8 @@ from dataclasses import dataclass
 import math
 
 import numpy as np
-from waypoint_controller.status import FINISHED, STARTED, WAYPOINT
+from waypoint_lab.course import goal_errors, in_goal_set
+from waypoint_lab.status import FINISHED, STARTED, WAYPOINT
 
 LATENCY = 0.5
 SLACK = 0.05
@@ -57,20 +59,9 @@ def _pose_text(pose):
     return f'({x:.3f}, {y:.3f}, {_degrees(theta)})'
 
 
-def _errors(poses, x, y, theta):
-    """Return each pose's distance from (x, y) and its heading's from theta (wrapped)."""
-    distance = np.hypot(poses[:, 0] - x, poses[:, 1] - y)
-    heading = np.abs(np.remainder(poses[:, 2] - theta + math.pi, math.tau) - math.pi)
-    return distance, heading
-
-
-def _goal_errors(poses, waypoint):
-    return _errors(poses, waypoint.x, waypoint.y, waypoint.theta)
-
-
-def _match(evidence, indices, reported):
+def _match(run, indices, reported):
     """Return (index, position error, heading error) of the true pose nearest to reported."""
-    distance, heading = _errors(evidence.poses[indices], *reported)
+    distance, heading = goal_errors(run.poses[indices], reported)
     best = int(np.argmin(np.maximum(distance / POSITION_MATCH, heading / HEADING_MATCH)))
     return indices[best], float(distance[best]), float(heading[best])
 
@@ -82,9 +73,9 @@ def _honest(distance, heading):
 class Judge:
     """Judges one course's run: judge.checks() gives every line of its tick-off sheet."""
 
-    def __init__(self, course, evidence, outcome):
-        self.course, self.evidence, self.outcome = course, evidence, outcome
-        self.lab = [report for report in evidence.reports if report.status is not None]
+    def __init__(self, course, run, outcome):
+        self.course, self.run, self.outcome = course, run, outcome
+        self.lab = run.statuses
         self.finished = next((report for report in self.lab
                               if report.status.kind == FINISHED), None)
 
@@ -112,11 +103,10 @@ class Judge:
         """Metres driven from STARTED to FINISHED, or None without both."""
         if self.time_taken is None:
             return None
-        return self.evidence.path_length(self.finished.time - self.time_taken,
-                                         self.finished.time)
+        return self.run.path_length(self.finished.time - self.time_taken, self.finished.time)
 
     def _window(self, report):
-        return self.evidence.during(report.time - LATENCY, report.time + SLACK)
+        return self.run.during(report.time - LATENCY, report.time + SLACK)
 
     def _why_missing(self):
         """Say why the run ended without a message, when the process tells."""
@@ -131,9 +121,9 @@ class Judge:
         return ''
 
     def _started(self):
-        if not self.evidence.reports:
+        if not self.run.reports:
             return Check(STARTED, False, f'no message on robot_status{self._why_missing()}')
-        first = self.evidence.reports[0]
+        first = self.run.reports[0]
         if first.status is None or first.status.kind != STARTED:
             return Check(STARTED, False, f'the first message was {first.text[:60]!r}, not '
                          'STARTED <x> <y> <theta>')
@@ -143,8 +133,8 @@ class Judge:
         window = self._window(first)
         if not len(window):
             return Check(STARTED, False, 'no true pose recorded around it')
-        index, distance, heading = _match(self.evidence, window, first.status.pose)
-        true_pose = _pose_text(self.evidence.poses[index])
+        index, distance, heading = _match(self.run, window, first.status.pose)
+        true_pose = _pose_text(self.run.poses[index])
         if not _honest(distance, heading):
             return Check(STARTED, False, f'reported {_pose_text(first.status.pose)}, but the '
                          f'robot was at {true_pose}: {distance * 100:.1f} cm and '
@@ -172,24 +162,26 @@ class Judge:
         window = self._window(report)
         if not len(window):
             return Check(name, False, 'no true pose recorded around it')
-        distance, heading = _goal_errors(self.evidence.poses[window], waypoint)
-        inside = window[(distance <= self.course.distance_tolerance)
-                        & (heading <= self.course.angle_tolerance)]
+        course = self.course
+        poses = self.run.poses[window]
+        inside = window[in_goal_set(poses, waypoint, course.distance_tolerance,
+                                    course.angle_tolerance)]
         if not len(inside):
+            distance, heading = goal_errors(poses, waypoint)
             nearest = int(np.argmin(np.maximum(distance / self.course.distance_tolerance,
                                                heading / self.course.angle_tolerance)))
             return Check(name, False, f'sent at t = {report.time:.2f} s while the robot was '
                          f'{distance[nearest]:.3f} m and {_degrees(heading[nearest])} from '
                          f'waypoint {number} (goal set: {self.course.distance_tolerance:g} m '
                          f'and {_degrees(self.course.angle_tolerance)})')
-        index, error, turn = _match(self.evidence, inside, report.status.pose)
+        index, error, turn = _match(self.run, inside, report.status.pose)
         if not _honest(error, turn):
             return Check(name, False, f'reported {_pose_text(report.status.pose)}, but the '
-                         f'robot was at {_pose_text(self.evidence.poses[index])}: '
+                         f'robot was at {_pose_text(self.run.poses[index])}: '
                          f'{error * 100:.1f} cm and {_degrees(turn)} off (at most '
                          f'{POSITION_MATCH * 100:g} cm and {_degrees(HEADING_MATCH)})')
-        off, off_heading = (values[0] for values in _goal_errors(
-            self.evidence.poses[[index]], waypoint))
+        off, off_heading = (values[0] for values in goal_errors(
+            self.run.poses[[index]], waypoint))
         return Check(name, True, f'sent at t = {report.time:.2f} s in the goal set '
                      f'({off:.3f} m, {_degrees(off_heading)} from the waypoint), reporting the '
                      f'true pose within {error * 100:.1f} cm and {_degrees(turn)}')
@@ -203,17 +195,17 @@ class Judge:
         if before is None or (before.kind, before.number) != (WAYPOINT,
                                                               len(self.course.waypoints)):
             return Check(FINISHED, False, f'sent before {last}')
-        after = self.evidence.reports[self.evidence.reports.index(self.finished) + 1:]
+        after = self.run.reports[self.run.reports.index(self.finished) + 1:]
         if after:
             return Check(FINISHED, False, f'{len(after)} message(s) after it, the first '
                          f'{after[0].text[:60]!r}')
-        still = self.evidence.during(self.finished.time + SETTLE, math.inf)
+        still = self.run.during(self.finished.time + SETTLE, math.inf)
         if len(still) < 2:
             return Check(FINISHED, True, f'after {last}, and nothing after it; the simulation '
                          'did not step on after it (lockstep waits for the controller)')
-        poses = self.evidence.poses[still]
-        moved, turned = (float(np.max(errors)) for errors in _errors(poses, *poses[0]))
-        held = f'{self.evidence.times[still[-1]] - self.evidence.times[still[0]]:.1f} s'
+        poses = self.run.poses[still]
+        moved, turned = (float(np.max(errors)) for errors in goal_errors(poses, poses[0]))
+        held = f'{self.run.times[still[-1]] - self.run.times[still[0]]:.1f} s'
         if moved > STILL_DISTANCE or turned > STILL_HEADING:
             return Check(FINISHED, False, f'the robot did not stop: it moved {moved:.3f} m and '
                          f'turned {_degrees(turned)} in the {held} after it (send a zero '
@@ -223,14 +215,14 @@ class Judge:
 
     def _contact(self):
         name = 'no wall contact'
-        evidence = self.evidence
-        if not evidence.stalled_steps:
-            span = evidence.times[-1] - evidence.times[0] if len(evidence.times) > 1 else 0.0
+        run = self.run
+        if not run.stalled_steps:
+            span = run.times[-1] - run.times[0] if len(run.times) > 1 else 0.0
             return Check(name, True, f'never pushed against a wall in {span:.1f} s')
-        where = evidence.pose_at(evidence.first_stall)
-        return Check(name, False, f'pushed against a wall for {evidence.stalled_seconds:.2f} s '
-                     f'({evidence.stalled_steps} steps), first at t = '
-                     f'{evidence.first_stall:.2f} s at {_pose_text(where)}')
+        where = run.pose_at(run.first_stall)
+        return Check(name, False, f'pushed against a wall for {run.stalled_seconds:.2f} s '
+                     f'({run.stalled_steps} steps), first at t = '
+                     f'{run.first_stall:.2f} s at {_pose_text(where)}')
 
     def _limit(self, name, value, limit, unit):
         if value is None:

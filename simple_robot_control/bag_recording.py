@@ -24,10 +24,6 @@ from simple_robot_control.node_runtime import ConfigError
 
 GRAPH_PERIOD = 0.5
 DEPTH = 1000
-# What makes a run: the controller's reports and course, every robot's odometry and ground
-# truth, the frames, the map and the time.
-RUN_TOPICS = ('/robot_status', '/waypoints', '/tf', '/tf_static', '/map', '/clock', '*/odom',
-              '*/ground_truth')
 
 
 def offered(profile):
@@ -60,7 +56,7 @@ class BagRecording:
     course, if given, is the name of the run's waypoint file, kept in the bag's metadata.
     """
 
-    def __init__(self, node, path, patterns=RUN_TOPICS, inputs=(), send_times=False,
+    def __init__(self, node, path, patterns, inputs=(), send_times=False,
                  course=''):
         problem = output_problem(path, inputs=inputs)
         if problem is not None:

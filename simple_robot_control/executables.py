@@ -22,9 +22,9 @@ MODULES = {
     'move_robot': 'stdr_lite.tools.move_robot',
     'stdr_ctl': 'stdr_lite.tools.stdr_ctl',
     'waypoint_controller': 'waypoint_controller.waypoint_controller',
-    'course_monitor': 'waypoint_controller.course_monitor',
-    'plot_run': 'waypoint_controller.plot_run',
-    'record_run': 'simple_robot_control.record_run',
+    'course_monitor': 'waypoint_lab.course_monitor',
+    'plot_run': 'waypoint_lab.plot_run',
+    'record_run': 'waypoint_lab.record_run',
     'grade_lab': 'lab_grader.grade_lab',
 }
 

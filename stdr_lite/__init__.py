@@ -10,7 +10,7 @@ same Simulation on STDR's topics.
     world.step()                          # one step of 1/rate_hz simulated seconds
     world.pose('robot0')                  # (x, y, theta) in the map frame
 
-stdr_lite.learning holds the Gymnasium environments built on it.
+waypoint_lab.learning holds the Gymnasium environments built on it.
 """
 
 from stdr_lite.core.entities import RequestError, SimulationSettings

@@ -16,6 +16,8 @@ import math
 from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
+from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, in_goal_set,
+                                 MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED)
 
 # Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
 # one control period's motion, means planning again, to the same end pose: smaller errors are
@@ -35,10 +37,10 @@ def _clamp(value, limit):
 class ControllerConfig:
     """Limits, goal set and gains; SI units and radians."""
 
-    max_linear_speed: float = 0.5
-    max_angular_speed: float = 1.0
-    distance_tolerance: float = 0.1
-    angle_tolerance: float = math.radians(5.0)
+    max_linear_speed: float = MAX_LINEAR_SPEED
+    max_angular_speed: float = MAX_ANGULAR_SPEED
+    distance_tolerance: float = DISTANCE_TOLERANCE
+    angle_tolerance: float = ANGLE_TOLERANCE
     heading_kp: float = 4.0
     heading_ki: float = 0.5
     heading_kd: float = 0.0
@@ -60,13 +62,6 @@ class ControllerConfig:
     def limits(self) -> Limits:
         return Limits(self.max_linear_speed, self.max_angular_speed, self.distance_tolerance,
                       self.angle_tolerance)
-
-
-def in_goal_set(pose, waypoint, config):
-    """Whether pose (x, y, theta) lies in the waypoint's goal set, as the lab defines it."""
-    x, y, theta = pose
-    return (math.hypot(waypoint.x - x, waypoint.y - y) <= config.distance_tolerance
-            and abs(wrap(theta - waypoint.theta)) <= config.angle_tolerance)
 
 
 def _as_pose(waypoint):
@@ -248,7 +243,9 @@ class CourseFollower:
     def check(self, pose):
         """Advance past every waypoint whose goal set contains pose; return their indices."""
         reached = []
-        while not self.finished and in_goal_set(pose, self.current, self.config):
+        config = self.config
+        while not self.finished and in_goal_set(pose, self.current, config.distance_tolerance,
+                                                config.angle_tolerance):
             reached.append(self.next_index)
             self.next_index += 1
         if not self.finished and (reached or not self._started):

@@ -25,12 +25,12 @@ from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
 from waypoint_controller.clearance import Clearance
 from waypoint_controller.continuity import jump_problem
-from waypoint_controller.control_law import CourseFollower
-from waypoint_controller.course import (course_message, COURSE_PARAMETERS, COURSE_TOPIC,
-                                        DEFAULTS, load_course, status_qos, STATUS_TOPIC)
+from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.stall import StallDetector
-from waypoint_controller.status import aborted, finished, started, waypoint_reached
+from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.interface import course_message, COURSE_PARAMETERS, load_course, status_qos
+from waypoint_lab.status import aborted, finished, started, waypoint_reached
 
 # Wall-clock seconds. Odometry is held this long after start, which covers discovery nine
 # times in ten, to see who else commands the robot; the controller stays ready to yield for the
@@ -54,6 +54,7 @@ SPEED = Bounds(0.0, 10.0, low_open=True)
 GAIN = Bounds(0.0, 1000.0)
 PROPORTIONAL_GAIN = Bounds(0.0, 1000.0, low_open=True)
 
+DEFAULTS = ControllerConfig()
 PARAMETERS = COURSE_PARAMETERS + (
     ParameterSpec('max_linear_speed', DEFAULTS.max_linear_speed, 'speed limit [m/s]', SPEED,
                   tunable=True),

@@ -174,7 +174,7 @@ def sensor_groups(entities, last_step_ns: int) -> list[tuple[PeriodicSchedule, l
              list(members.items())) for (period_ns, phase), members in groups.items()]
 
 
-class Answers:
+class AwaitedCommands:
     """Lockstep: which robots have not yet answered the latest odometry with a command."""
 
     def __init__(self):

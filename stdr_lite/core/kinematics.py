@@ -4,19 +4,14 @@ Unicycle kinematics, vectorized over any number of robots.
 Every function broadcasts: pass scalars for one robot, arrays for many, or an extra trailing
 axis of durations to sample a step at several instants. The *_one twins do the same for one
 robot in plain Python floats, to the last bit (numpy's sin, cos and remainder are the C
-library's), at a fraction of numpy's per-call cost.
+library's; wrap_angle is one rule for both), at a fraction of numpy's per-call cost.
 """
 
 import math
 
 import numpy as np
 from numpy.typing import ArrayLike
-
-
-def wrap_angle(angle: ArrayLike) -> np.ndarray | float:
-    """Wrap angles to (-pi, pi]."""
-    wrapped = np.remainder(np.asarray(angle, dtype=float) + np.pi, 2.0 * np.pi) - np.pi
-    return np.where(wrapped == -np.pi, np.pi, wrapped)[()]
+from simple_robot_control.pose import wrap_angle
 
 
 def euler_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
@@ -48,23 +43,12 @@ def arc_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: 
             wrap_angle(theta + omega * dt))
 
 
-def wrap_angle_one(angle: float) -> float:
-    """
-    Wrap one angle to (-pi, pi], as wrap_angle does, bit for bit.
-
-    Not simple_robot_control.pose.wrap_angle: math.remainder may differ from numpy in the last
-    bit, and the simulator's few-body and many-body steps must agree exactly.
-    """
-    wrapped = (angle + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if wrapped == -math.pi else wrapped
-
-
 def euler_step_one(x: float, y: float, theta: float, v: float, omega: float,
                    dt: float) -> tuple[float, float, float]:
     """Advance one robot as euler_step does."""
     return (x + v * dt * math.cos(theta),
             y + v * dt * math.sin(theta),
-            wrap_angle_one(theta + omega * dt))
+            wrap_angle(theta + omega * dt))
 
 
 def arc_step_one(x: float, y: float, theta: float, v: float, omega: float,
@@ -76,7 +60,7 @@ def arc_step_one(x: float, y: float, theta: float, v: float, omega: float,
     mid_heading = theta + half_turn
     return (x + chord * math.cos(mid_heading),
             y + chord * math.sin(mid_heading),
-            wrap_angle_one(theta + omega * dt))
+            wrap_angle(theta + omega * dt))
 
 
 INTEGRATORS = {'euler': euler_step, 'arc': arc_step}

@@ -14,7 +14,8 @@ from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.robot_description import load_robot, RobotEntry
 from stdr_lite.core.simulation import Simulation
 
-LAB_START = (1.0, 2.0, 0.0)
+# Where a robot starts unless told otherwise (the node's initial_pose default too).
+DEFAULT_POSE = (1.0, 2.0, 0.0)
 
 
 def map_file(name: str | os.PathLike = '') -> str:
@@ -51,7 +52,7 @@ def robot_entries(robots, search_path=()) -> list[RobotEntry]:
     return entries
 
 
-def load_world(map_name: str | os.PathLike = '', robots=(('robot0', LAB_START),),
+def load_world(map_name: str | os.PathLike = '', robots=(('robot0', DEFAULT_POSE),),
                settings: SimulationSettings = SimulationSettings(),
                search_path: tuple = ()) -> Simulation:
     """

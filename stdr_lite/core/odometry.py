@@ -17,6 +17,7 @@ With every coefficient zero the odometry is the true pose, exactly, whatever hap
 from dataclasses import dataclass
 
 import numpy as np
+from simple_robot_control.pose import wrap_angle
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,7 @@ class Odometry:
         self._covariances = (motion @ self._covariances @ motion.transpose(0, 2, 1)
                              + noise @ spread @ noise.transpose(0, 2, 1))
         self.poses = self.poses + np.column_stack([step_x, step_y, turn])
-        self.poses[:, 2] = np.remainder(self.poses[:, 2] + np.pi, 2.0 * np.pi) - np.pi
+        self.poses[:, 2] = wrap_angle(self.poses[:, 2])
 
     def reading(self, index: int) -> OdometryReading:
         x, y, theta = self.poses[index].tolist()

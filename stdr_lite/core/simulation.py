@@ -20,7 +20,7 @@ import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
 from stdr_lite.core.commands import CommandBuffer, CommandOutcome
-from stdr_lite.core.entities import (Answers, Category, NamespaceError, NANOSECONDS,
+from stdr_lite.core.entities import (AwaitedCommands, Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
                                      SimulationSettings)
 from stdr_lite.core.motion import motion_for, noisy_command
@@ -98,7 +98,7 @@ class Simulation(SimulationQueries):
         for entity in self._entities:
             entity.motion_noise = self._motion_noise(entity.name, entity.description)
         self._odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
-        self.answers = Answers()
+        self.awaited_commands = AwaitedCommands()
         for entity in self._entities:
             for sensor in entity.sensors:
                 sensor.restart(0)
@@ -187,7 +187,7 @@ class Simulation(SimulationQueries):
         self._motion = np.delete(self._motion, index, axis=0)
         del self._entities[index]
         self._sensor_groups = None
-        self.answers.answer(name)
+        self.awaited_commands.answer(name)
         self._renumber()
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
@@ -343,9 +343,9 @@ class Simulation(SimulationQueries):
         for entity in entities:
             self._append(entity)
 
-    def expect_answers(self) -> None:
+    def await_commands(self) -> None:
         """Lockstep: from now on, wait for a command from every robot before stepping."""
-        self.answers.expect(self.robot_names)
+        self.awaited_commands.expect(self.robot_names)
 
     @contextmanager
     def _naming_overlaps(self):

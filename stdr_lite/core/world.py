@@ -5,9 +5,10 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
+from simple_robot_control.pose import wrap_angle
 from stdr_lite.core.collision import FootprintChecker
 from stdr_lite.core.contacts import moving_into_others, overlapped
-from stdr_lite.core.kinematics import INTEGRATORS, INTEGRATORS_ONE, wrap_angle, wrap_angle_one
+from stdr_lite.core.kinematics import INTEGRATORS, INTEGRATORS_ONE
 
 # Sampling the path so that no point of a footprint moves more than a quarter cell between
 # samples bounds the depth by which it could clip a corner between two samples to
@@ -163,7 +164,7 @@ class World:
         ends, moves = [], []
         for index, ((x, y, theta), direction, v, bend, omega, radius, shape) in enumerate(bodies):
             end = self._advance_one(x, y, direction, v, bend, dt)
-            ends.append((end[0], end[1], wrap_angle_one(theta + omega * dt)))
+            ends.append((end[0], end[1], wrap_angle(theta + omega * dt)))
             still = v == 0.0 and (shape is None or omega == 0.0)
             moves.append(still or self.checker.clear_for_motion_one(x, y, abs(v) * dt, radius)
                          or not self._wall_blocks_one(index, (x, y, direction, v, bend, theta,

@@ -28,9 +28,9 @@ from stdr_lite.core.regions import count_problem, region_test
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
 from stdr_lite.core.world import PlacementError
-from stdr_lite.node.answers import Refusal, result
 from stdr_lite.node.messages import set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
+from stdr_lite.node.results import Refusal, result
 
 CATEGORIES = {Category.ROBOT: EntityCategory.CATEGORY_ROBOT,
               Category.STATIC_OBSTACLE: EntityCategory.CATEGORY_STATIC_OBJECT,

@@ -11,7 +11,7 @@ from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
 from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_CEILING, SAFETY_LINEAR_SPEED
 from stdr_lite.core.entities import SENSOR_NOISE_MODES
 from stdr_lite.core.kinematics import INTEGRATORS
-from stdr_lite.core.loading import load_world
+from stdr_lite.core.loading import DEFAULT_POSE, load_world
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
 from stdr_lite.core.robot_list import load_robot_list
@@ -52,7 +52,7 @@ PARAMETERS = (
                   'topics are /<name>/cmd_vel, /<name>/odom, ...', ros_name=True),
     ParameterSpec('robot_radius', 0.0, 'footprint radius of that robot [m]; 0 takes the '
                   'one in robot_description', Bounds(0.0, 10.0)),
-    ParameterSpec('initial_pose', [1.0, 2.0, 0.0], 'start pose of that robot [x m, y m, theta '
+    ParameterSpec('initial_pose', list(DEFAULT_POSE), 'start pose of that robot [x m, y m, theta '
                   'rad] in the map frame', constraints='off walls, on the map'),
     ParameterSpec('max_linear_speed', 0.0, 'commands beyond this linear speed are clamped '
                   '[m/s]; 0 clamps none (STDR), short of safety_linear_speed',

@@ -40,7 +40,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from simple_robot_control.guarded_node import GuardedNode
 from simulation_interfaces.msg import Result
-from stdr_lite.node.answers import Refusal, result, SERVICE_QOS
+from stdr_lite.node.results import Refusal, result, SERVICE_QOS
 
 # Wall seconds a turn of the queue may take before the executor gets its turn again.
 SLICE = 0.004

@@ -70,7 +70,7 @@ class Stepper:
         if state != SimulationState.STATE_PAUSED:
             while self._requests:
                 self._requests.popleft().set_result(False)
-        if resumed and self.lockstep and self._simulation.answers.awaiting:
+        if resumed and self.lockstep and self._simulation.awaited_commands.awaiting:
             self._publish_state()
             self._repeated_at = time.monotonic()
         self._wake()
@@ -100,24 +100,24 @@ class Stepper:
             if new_time:
                 self.await_answers()
             else:
-                self._simulation.answers.keep_only(self._simulation.robot_names)
+                self._simulation.awaited_commands.keep_only(self._simulation.robot_names)
         self._wake()
 
     def answered(self, name):
         """Lockstep: note a robot's command; step on once every robot has answered."""
-        if self._simulation.answers.answer(name):
+        if self._simulation.awaited_commands.answer(name):
             self.answer_latencies.append(time.monotonic() - self._published_at)
             self.step_if_answered()
 
     def step_if_answered(self):
         """Unpaced lockstep: run to the next published odometry once all have answered."""
         if self._step_on_answer:
-            while self.may_step() and not self._simulation.answers.awaiting:
+            while self.may_step() and not self._simulation.awaited_commands.awaiting:
                 if self._advance():
                     break
 
     def await_answers(self):
-        self._simulation.expect_answers()
+        self._simulation.await_commands()
         self._published_at = self._repeated_at = time.monotonic()
 
     def _advance(self):
@@ -139,7 +139,7 @@ class Stepper:
         self.step_if_answered()
 
     def _on_tick(self):
-        if self.may_step() and not self._simulation.answers.awaiting:
+        if self.may_step() and not self._simulation.awaited_commands.awaiting:
             self._advance()
 
     def _repeat_unanswered_state(self):
@@ -148,6 +148,6 @@ class Stepper:
         joined, self._odometry_subscribers = (subscribers > self._odometry_subscribers,
                                               subscribers)
         silent = time.monotonic() - self._repeated_at > LOCKSTEP_REPEAT_AFTER
-        if self.playing and self._simulation.answers.awaiting and (joined or silent):
+        if self.playing and self._simulation.awaited_commands.awaiting and (joined or silent):
             self._publish_state()
             self._repeated_at = time.monotonic()

@@ -23,7 +23,7 @@ from simulation_interfaces.srv import (DeleteEntity, GetAvailableWorlds, GetCurr
                                        LoadWorld, ResetSimulation, SetEntityState,
                                        SetSimulationState, SpawnEntity, StepSimulation,
                                        UnloadWorld)
-from stdr_lite.node.answers import MAX_ACTION_STEPS, MAX_SERVICE_STEPS
+from stdr_lite.node.results import MAX_ACTION_STEPS, MAX_SERVICE_STEPS
 
 DESCRIPTION = ('stdr_ctl: control a running stdr_lite through the standard simulation services '
                '(simulation_interfaces): time, entities and worlds. Prints the answer; exit '

@@ -19,7 +19,7 @@ from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import run
 from simulation_interfaces.msg import Result
-from stdr_lite.node.answers import SERVICE_QOS
+from stdr_lite.node.results import SERVICE_QOS
 from stdr_lite.tools.ctl_commands import build_arguments, COMMANDS, constant_names
 from unique_identifier_msgs.msg import UUID
 

@@ -20,8 +20,8 @@ from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetS
                                        SetSimulationState, SpawnEntity, StepSimulation,
                                        UnloadWorld)
 
-from stdr_lite.node.answers import MAX_SERVICE_STEPS
 from stdr_lite.node.control_services import IMPLEMENTED
+from stdr_lite.node.results import MAX_SERVICE_STEPS
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.tools.ctl_commands import build_arguments
 from stdr_lite.tools.stdr_ctl import StdrCtl

@@ -8,14 +8,14 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from ros_helpers import overrides, spin_until
-from simple_robot_control import record_run
 from stdr_lite.node import parameters as simulator_parameters
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.tools import move_robot
 from stdr_lite.viewer import stdr_viewer
-from waypoint_controller import course_monitor, waypoint_controller
-from waypoint_controller.course_monitor import CourseMonitor
+from waypoint_controller import waypoint_controller
 from waypoint_controller.waypoint_controller import WaypointController
+from waypoint_lab import course_monitor, record_run
+from waypoint_lab.course_monitor import CourseMonitor
 import yaml
 
 CONFIG = Path(__file__).resolve().parents[2] / 'config'

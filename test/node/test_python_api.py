@@ -14,9 +14,9 @@ from sensor_msgs.msg import LaserScan
 from simple_robot_control.pose import pose_from_message
 from std_msgs.msg import String
 from stdr_lite import load_world, SimulationSettings
-from stdr_lite.learning.arena import Arena
-from stdr_lite.learning.course import observe, TaskSettings
-from stdr_lite.learning.policy_controller import PolicyController, scan_at
+from waypoint_lab.learning.arena import Arena
+from waypoint_lab.learning.policy_controller import PolicyController, scan_at
+from waypoint_lab.learning.task import observe, TaskSettings
 
 STEPS = 120
 

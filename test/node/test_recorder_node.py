@@ -3,8 +3,8 @@
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import simulator_and_client, spin_until
 from rosbags.highlevel import AnyReader
-from simple_robot_control.record_run import RunRecorder
 from std_msgs.msg import String
+from waypoint_lab.record_run import RunRecorder
 
 LATCHED = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -1,5 +1,6 @@
 """A short run, recorded by course_monitor, drawn by plot_run."""
 
+import json
 import math
 
 from full_disk import fill_up_after
@@ -13,13 +14,11 @@ from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import BUNDLED_MAP, shared_file
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
-from waypoint_controller.course import status_qos
-from waypoint_controller.course_monitor import CourseMonitor
-from waypoint_controller.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
-from waypoint_controller.run_bag import load_bag
-from waypoint_controller.run_record import load_run
-from waypoint_controller.status import parse_status
 from waypoint_controller.waypoint_controller import WaypointController
+from waypoint_lab.course_monitor import CourseMonitor
+from waypoint_lab.interface import status_qos
+from waypoint_lab.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
+from waypoint_lab.run import read_run
 
 COURSE = '2.5 2 0\n2.5 3 90\n'
 
@@ -64,22 +63,23 @@ def test_monitor_prints_each_status_and_a_summary(recorded_run):
 
 def test_record_holds_the_run(recorded_run):
     course, record_path, _ = recorded_run
-    record = load_bag(record_path)
-    assert record.course == 'course.txt' and len(record.waypoints) == 2
-    assert record.result == 'FINISHED'
-    assert np.all(np.diff(record.times) > 0.0)
-    assert record.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
-    poses_at = dict(zip(record.times, record.poses))
-    for date, text in record.statuses[1:3]:
-        assert poses_at[date] == pytest.approx(parse_status(text).pose, abs=1e-3)
-    assert record.statuses[3][0] == record.statuses[2][0]
-    assert math.dist(record.poses[-1][:2], (2.5, 3.0)) <= 0.1
+    run = read_run(record_path)
+    assert run.course.name == 'course.txt' and len(run.course.waypoints) == 2
+    assert run.result == 'FINISHED'
+    assert np.all(np.diff(run.times) > 0.0)
+    assert run.poses[0] == pytest.approx((1.0, 2.0, 0.0), abs=0.05)
+    # Dated by the odometry heard before it: the pose it reports (the controller speaks before
+    # it commands, and lockstep steps only on the command).
+    for report in run.statuses[1:3]:
+        assert run.pose_at(report.time) == pytest.approx(report.status.pose, abs=1e-3)
+    assert run.statuses[3].time == run.statuses[2].time
+    assert math.dist(run.poses[-1][:2], (2.5, 3.0)) <= 0.1
 
 
 def test_picture_of_the_run_is_a_png_of_the_expected_size(recorded_run, tmp_path):
     _, record_path, _ = recorded_run
     picture = tmp_path / 'run.png'
-    render_run(load_bag(record_path), load_map(shared_file('maps', 'lab_room.yaml')), 0.2,
+    render_run(read_run(record_path), load_map(shared_file('maps', 'lab_room.yaml')), 0.2,
                picture)
     assert picture.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     with Image.open(picture) as image:
@@ -98,7 +98,7 @@ def test_plot_run_command_writes_beside_the_record(recorded_run, capsys):
 
 
 @pytest.mark.parametrize('args, message', [
-    (['missing.jsonl'], 'missing.jsonl: cannot read run record'),
+    (['missing.jsonl'], 'missing.jsonl: cannot read the bag'),
     (['missing.mcap'], 'missing.mcap: cannot read the bag'),
     (['RECORD', '--map', '/no/map.yaml'], '/no/map.yaml: cannot read map file'),
     (['RECORD', '--robot-radius', '-1'], '--robot-radius must be in (0, 10], got -1'),
@@ -162,18 +162,20 @@ def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor,
     assert '\x1b' not in printed and len(printed) < 2000
 
 
-def test_the_run_exported_as_json_lines_reads_back_the_same(recorded_run, tmp_path):
+def test_the_run_exported_as_json_lines_holds_the_same(recorded_run, tmp_path):
     _, record_path, _ = recorded_run
     exported = tmp_path / 'run.jsonl'
     assert plot_run([str(record_path), '--output', str(tmp_path / 'run.png'),
                      '--export-jsonl', str(exported)]) == 0
-    bag, record = load_bag(record_path), load_run(exported)
-    assert record.course == 'course.txt'
-    assert np.allclose([(waypoint.x, waypoint.y, waypoint.theta)
-                        for waypoint in bag.waypoints],
-                       [(waypoint.x, waypoint.y, waypoint.theta) for waypoint in record.waypoints])
-    assert record.statuses == bag.statuses and record.poses == bag.poses
-    assert np.allclose(record.times, bag.times)
+    run = read_run(record_path)
+    header, *entries = map(json.loads, exported.read_text().splitlines())
+    assert header['course'] == 'course.txt' and header['distance_tolerance'] == 0.1
+    assert np.allclose(header['waypoints'], run.course.waypoints)
+    assert [(entry['t'], entry['status']) for entry in entries if 'status' in entry] == [
+        (report.time, report.text) for report in run.statuses]
+    poses = [entry for entry in entries if 'pose' in entry]
+    assert np.allclose([entry['pose'] for entry in poses], run.poses)
+    assert [entry['t'] for entry in entries] == sorted(entry['t'] for entry in entries)
 
 
 def test_plot_run_refuses_a_broken_bag_in_one_line(tmp_path, capsys):
@@ -217,7 +219,7 @@ def test_a_started_heard_before_any_odometry_is_dated_by_the_odometry(
         message.pose.pose.position.x, message.pose.pose.position.y = x, 2.0
         message.pose.pose.orientation.w = 1.0
         odometry.publish(message)
-        spin_until(executor, lambda: (monitor._status_clock.now or 0.0) > seconds - 0.5,
+        spin_until(executor, lambda: (monitor.sim_time or 0.0) > seconds - 0.5,
                    what=f'odometry at {seconds} s')
     for text in ('WAYPOINT 1 2.000 2.000 0.00', 'FINISHED'):
         status.publish(String(data=text))

@@ -12,9 +12,9 @@ from simple_robot_control.pose import yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
-from waypoint_controller.control_law import ControllerConfig, in_goal_set
 from waypoint_controller.waypoint_controller import WaypointController
-from waypoint_controller.waypoints import load_waypoints
+from waypoint_lab.course import in_goal_set
+from waypoint_lab.waypoints import load_waypoints
 
 # The lab tour's robot_status in lockstep, as the README shows it: a change made for speed alone
 # must leave every line as it is.
@@ -87,7 +87,7 @@ def test_course_reports_every_waypoint_in_its_goal_set(ros_context, executor, tm
         truth = min(recorder.poses, key=lambda pose: math.dist(pose[:2], reported[:2])
                     + abs(math.remainder(pose[2] - reported[2], math.tau)))
         assert truth == pytest.approx(reported, abs=2e-3)
-        assert in_goal_set(truth, waypoints[number - 1], ControllerConfig())
+        assert in_goal_set(truth, waypoints[number - 1])
 
 
 def test_lockstep_runs_are_identical(ros_context, tmp_path):

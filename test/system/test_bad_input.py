@@ -1,12 +1,12 @@
 """Bad input at start-up: one line naming it, exit code 2, no traceback, no hang."""
 
-import json
 import os
 from pathlib import Path
 
 from map_fixtures import png_header
 from processes import run
 import pytest
+from run_bags import write_run
 
 
 @pytest.fixture
@@ -75,23 +75,19 @@ def test_the_controller_refuses_bad_input_in_one_line(files, arguments, message)
 
 
 def test_plot_run_refuses_a_decompression_bomb_as_its_map(files, tmp_path):
-    record = tmp_path / 'run.jsonl'
-    record.write_text(json.dumps({'course': 'c', 'waypoints': [[1, 2, 0]],
-                                  'distance_tolerance': 0.1, 'angle_tolerance': 0.1}) + '\n')
+    record = tmp_path / 'run.mcap'
+    write_run(record).close()
     result = run('plot_run', str(record), '--map', str(files / 'bomb.yaml'))
     assert_one_line_refusal(result, 'bomb.png: map image is too large')
 
 
 def test_plot_run_draws_an_interrupted_record_and_says_so(tmp_path):
-    record = tmp_path / 'run.jsonl'
-    header = {'course': 'c', 'waypoints': [[2, 2, 0]], 'distance_tolerance': 0.1,
-              'angle_tolerance': 0.1}
-    lines = [json.dumps(header)] + [json.dumps({'t': 0.02 * k, 'pose': [1 + 0.01 * k, 2, 0]})
-                                    for k in range(50)]
-    record.write_text('\n'.join(lines) + '\n{"t": 1.0, "pose": [1.5, 2.')
+    record = tmp_path / 'run.mcap'
+    bag = write_run(record, steps=20_000, finish=False)
+    bag._stream.flush()  # killed here: no summary, the last chunk unwritten
     result = run('plot_run', str(record))
     assert result.returncode == 0, result.stderr
-    assert f'{record}:52: the last line was cut short' in result.stderr
+    assert f'{record}: the bag was cut short' in result.stderr
     assert Path(tmp_path / 'run.png').stat().st_size > 10000
 
 
@@ -142,14 +138,12 @@ def test_whole_numbers_are_taken_for_doubles(tmp_path):
 
 @pytest.mark.parametrize('name, arguments', [
     ('stdr_viewer', ['--ros-args', '-p', 'robot_description:=FILES/nested.yaml']),
-    ('plot_run', ['FILES/run.jsonl', '--map', 'FILES/nested.yaml']),
+    ('plot_run', ['FILES/run.mcap', '--map', 'FILES/nested.yaml']),
 ])
 def test_nested_yaml_is_one_line_for_the_viewer_and_plot_run(files, name, arguments):
-    (files / 'run.jsonl').write_text(json.dumps({'course': 'c', 'waypoints': [[1, 2, 0]],
-                                                 'distance_tolerance': 0.1,
-                                                 'angle_tolerance': 0.1}) + '\n')
+    write_run(files / 'run.mcap').close()
     arguments = [argument.replace('FILES', str(files)) for argument in arguments]
-    assert_one_line_refusal(run(name, *arguments, timeout=30), 'nested')
+    assert_one_line_refusal(run(name, *arguments, timeout=30), 'is nested')
 
 
 @pytest.mark.parametrize('record', ['COURSE', 'FILES/fifo.txt', '/dev/null', 'FILES'])

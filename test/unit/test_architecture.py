@@ -1,10 +1,13 @@
 """
-The layout's rules, checked from the code's own imports.
+The layout's rules (doc/layout.md), checked from the code's own imports.
 
-Pure modules (the simulation core, the control law and its parts, the grader's rules, the
-shared checks) import no ROS client library, so they run and are tested without a ROS graph;
-the lab's controller does not depend on the simulator, and the grader only on its core; no
-module grows past 400 lines; every executable lives in a module named after it.
+Pure modules (the simulation core, the lab's contract, the control law and its parts, the
+grader's rules, the shared checks) import no ROS client library, so they run and are tested
+without a ROS graph. The arrows run one way: the simulator (stdr_lite) knows neither the lab
+(waypoint_lab) nor its answer (waypoint_controller); the lab's contract knows neither the answer
+nor the grader; the grader grades any controller and never imports the answer; the answer stands
+on the contract, never on the simulator. No module grows past 400 lines; every executable
+lives in a module named after it; each of the lab's numbers is written once.
 """
 
 import ast
@@ -16,20 +19,22 @@ import pytest
 from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_controller', 'lab_grader')
+PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
+            'lab_grader')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
         'simple_robot_control/occupancy_map.py', 'simple_robot_control/command_line.py',
         'simple_robot_control/share.py', 'simple_robot_control/bag.py'] + [
     f'waypoint_controller/{name}.py' for name in (
-        'control_law', 'pid', 'schedule', 'stall', 'continuity', 'status', 'waypoints',
-        'run_record', 'run_bag', 'planner', 'reeds_shepp', 'clearance')] + [
+        'control_law', 'pid', 'schedule', 'stall', 'continuity', 'planner', 'reeds_shepp',
+        'clearance')] + [
+    f'waypoint_lab/{name}.py' for name in ('course', 'waypoints', 'status', 'run', 'plot_run')] + [
     f'lab_grader/{name}.py' for name in (
-        'courses', 'evidence', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
+        'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
-    f'stdr_lite/learning/{name}.py' for name in (
-        'course', 'arena', 'waypoints_env', 'vector_env', 'rendering')]
+    f'waypoint_lab/learning/{name}.py' for name in (
+        'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -59,15 +64,33 @@ def test_the_simulation_core_knows_nothing_of_nodes_viewer_or_tools(path):
     assert not outward
 
 
-@pytest.mark.parametrize('path', modules('waypoint_controller/*.py'), ids=str)
-def test_the_controller_does_not_depend_on_the_simulator(path):
-    assert not [name for name in imported_modules(path) if name.split('.')[0] == 'stdr_lite']
+def packages_imported(path):
+    return {name.split('.')[0] for name in imported_modules(path)}
 
 
-@pytest.mark.parametrize('path', modules('simple_robot_control/*.py'), ids=str)
-def test_the_shared_runtime_depends_on_neither_tool(path):
-    assert not [name for name in imported_modules(path)
-                if name.split('.')[0] in ('stdr_lite', 'waypoint_controller')]
+# Which of our packages each may import: the arrows of doc/layout.md, all pointing down.
+ALLOWED = {
+    'simple_robot_control': set(),
+    'stdr_lite': {'simple_robot_control'},
+    'waypoint_lab': {'simple_robot_control', 'stdr_lite'},
+    'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
+    'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab'},
+}
+
+
+@pytest.mark.parametrize('path', modules(*(f'{package}/**/*.py' for package in PACKAGES)),
+                         ids=str)
+def test_imports_between_packages_run_down_the_layout(path):
+    package = path.relative_to(REPOSITORY).parts[0]
+    ours = packages_imported(path) & set(PACKAGES) - {package}
+    assert ours <= ALLOWED[package], (
+        f'{path.relative_to(REPOSITORY)} imports {sorted(ours - ALLOWED[package])}')
+
+
+@pytest.mark.parametrize('path', modules('waypoint_lab/*.py'), ids=str)
+def test_the_contract_and_its_tools_need_no_simulator(path):
+    """Only the lab's Gymnasium task (waypoint_lab/learning) is built on the simulator."""
+    assert 'stdr_lite' not in packages_imported(path)
 
 
 @pytest.mark.parametrize('path', modules('lab_grader/*.py'), ids=str)
@@ -75,6 +98,48 @@ def test_the_grader_runs_the_simulator_and_reads_only_its_core(path):
     """The grader starts stdr_lite as a process, as a course would, and judges from bags."""
     assert not [name for name in imported_modules(path)
                 if name.startswith('stdr_lite') and not name.startswith('stdr_lite.core')]
+
+
+# The lab's numbers and names, each written in waypoint_lab/course.py alone: the goal set's d and
+# t (a tolerance given as a number, or math.radians(5.0)), the start pose, the status topic.
+CONTRACT = REPOSITORY / 'waypoint_lab' / 'course.py'
+STATUS_TOPICS = ('robot_status', '/robot_status')
+START = (1.0, 2.0, 0.0)
+
+
+def lab_constants(path):
+    """Yield (line, what) of each of the lab's constants written as a literal in path."""
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Constant) and node.value in STATUS_TOPICS:
+            yield node.lineno, 'the status topic'
+        elif isinstance(node, ast.Tuple) and all(isinstance(item, ast.Constant)
+                                                 for item in node.elts) and tuple(
+                item.value for item in node.elts) == START:
+            yield node.lineno, 'the start pose'
+        elif (isinstance(node, ast.Call) and getattr(node.func, 'attr', '') == 'radians'
+              and node.args and getattr(node.args[0], 'value', None) == 5.0):
+            yield node.lineno, 'the angle tolerance'
+        elif ((isinstance(node, ast.keyword) and node.arg or '').endswith('_tolerance')
+              and isinstance(node.value, ast.Constant)):
+            yield node.lineno, f'{node.arg} given as a number'
+        elif (isinstance(node, (ast.Assign, ast.AnnAssign))
+              and isinstance(node.value, ast.Constant)
+              and any(getattr(target, 'id', '').endswith('tolerance')
+                      for target in getattr(node, 'targets', [getattr(node, 'target', None)]))):
+            yield node.lineno, 'a tolerance given as a number'
+
+
+@pytest.mark.parametrize('path', [path for path in modules(
+    'waypoint_lab/**/*.py', 'waypoint_controller/*.py', 'lab_grader/*.py') if path != CONTRACT],
+    ids=str)
+def test_each_lab_constant_is_written_once(path):
+    written = list(lab_constants(path))
+    assert not written, f'{path.relative_to(REPOSITORY)}: {written} (use waypoint_lab.course)'
+
+
+def test_the_contract_holds_the_lab_constants():
+    found = {what for _, what in lab_constants(CONTRACT)}
+    assert {'the status topic', 'the start pose', 'the angle tolerance'} <= found
 
 
 @pytest.mark.parametrize('path', modules(*(f'{package}/**/*.py' for package in PACKAGES)),

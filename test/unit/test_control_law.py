@@ -3,11 +3,12 @@
 import math
 
 import pytest
+from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller import control_law
-from waypoint_controller.control_law import (ControllerConfig, CourseFollower, in_goal_set,
-                                             PoseController, wrap)
-from waypoint_controller.waypoints import Waypoint
+from waypoint_controller.control_law import ControllerConfig, CourseFollower, PoseController
+from waypoint_lab.course import in_goal_set
+from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()
 
@@ -36,7 +37,7 @@ def test_reported_poses_lie_in_their_goal_sets():
     reached = reach_poses(trace)
     assert [index for _, index in reached] == [0, 1, 2]
     for pose, index in reached:
-        assert in_goal_set(pose, waypoints[index], CONFIG)
+        assert in_goal_set(pose, waypoints[index])
 
 
 def test_commands_respect_the_limits():
@@ -147,7 +148,7 @@ def test_a_push_off_the_plan_is_recovered_by_planning_again():
         elapsed = round(elapsed + 0.05, 10)
         assert elapsed < 30.0
     assert follower.controller.replans >= 1
-    assert in_goal_set(pose, Waypoint(3.0, 0.0, 0.0), CONFIG)
+    assert in_goal_set(pose, Waypoint(3.0, 0.0, 0.0))
 
 
 def test_a_goal_every_plan_to_which_is_vetoed_is_not_searched_again_in_place(monkeypatch):

@@ -8,7 +8,7 @@ from simple_robot_control.share import BUNDLED_MAP, shared_file
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
 from waypoint_controller.control_law import ControllerConfig, CourseFollower
-from waypoint_controller.waypoints import load_waypoints
+from waypoint_lab.waypoints import load_waypoints
 
 COURSES = sorted((Path(__file__).resolve().parents[2] / 'waypoints').glob('*.txt'))
 STEPS_PER_CONTROL = 2

@@ -1,7 +1,7 @@
 """stdr_ctl's arguments: every count, wait and name is bounded before anything is sent."""
 
 import pytest
-from stdr_lite.node.answers import MAX_ACTION_STEPS, MAX_SERVICE_STEPS
+from stdr_lite.node.results import MAX_ACTION_STEPS, MAX_SERVICE_STEPS
 from stdr_lite.tools.ctl_commands import build_arguments
 
 

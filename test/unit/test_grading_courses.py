@@ -3,9 +3,10 @@
 import math
 from pathlib import Path
 
-from lab_grader.courses import Course, CourseError, find_courses, load_course
+from lab_grader.courses import CourseError, find_courses, read_course
 import pytest
 from simple_robot_control.share import BUNDLED_MAP, shared_file
+from waypoint_lab.course import Course
 
 
 def write(folder, name, waypoints='1.0 2.0 0.0', settings=None):
@@ -37,19 +38,19 @@ def test_a_courses_yaml_sets_its_world_limits_and_points(tmp_path):
                  'robot: turtlebot3_burger\ntime_limit: 30\npoints: 2.5\n'
                  'distance_tolerance: 0.05\nangle_tolerance_deg: 2\nmax_time: 20\n'
                  'max_path_length: 12.5\n')
-    course = load_course(path, Course('', path, (), time_limit=99.0))
+    course = read_course(path, Course('', (), time_limit=99.0))
     assert course.start == (2.0, 3.0, pytest.approx(math.pi / 2))
     assert course.map_file == str(tmp_path / 'room.yaml')
     assert course.robot_file.endswith('turtlebot3_burger.xml')
     assert (course.time_limit, course.points, course.max_time, course.max_path_length) == (
         30.0, 2.5, 20.0, 12.5)
     assert course.angle_tolerance == pytest.approx(math.radians(2))
-    assert load_course(write(tmp_path, 'plain')).time_limit == 120.0
-    assert find_courses([path], Course('', path, (), time_limit=99.0))[0].points == 2.5
+    assert read_course(write(tmp_path, 'plain')).time_limit == 120.0
+    assert find_courses([path], Course('', (), time_limit=99.0))[0].points == 2.5
 
 
 def test_the_bundled_map_is_known_by_name(tmp_path):
-    course = load_course(write(tmp_path, 'c', settings='map: lab_room\n'))
+    course = read_course(write(tmp_path, 'c', settings='map: lab_room\n'))
     assert course.map_file == shared_file(*BUNDLED_MAP)
 
 
@@ -67,7 +68,7 @@ def test_the_bundled_map_is_known_by_name(tmp_path):
 ])
 def test_a_bad_setting_is_one_line_naming_the_file_and_field(tmp_path, settings, complaint):
     with pytest.raises(CourseError) as raised:
-        load_course(write(tmp_path, 'c', settings=settings))
+        read_course(write(tmp_path, 'c', settings=settings))
     assert complaint in str(raised.value) and '\n' not in str(raised.value)
 
 

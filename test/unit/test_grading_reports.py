@@ -4,17 +4,17 @@ import json
 from pathlib import Path
 from xml.etree import ElementTree
 
-from lab_grader.courses import Course
 from lab_grader.grading import CourseVerdict, SubmissionVerdict
 from lab_grader.reports import classroom_result, gradescope_results, junit_xml, terminal_table
 from lab_grader.verdicts import Check, ProcessOutcome
+from waypoint_lab.course import Course
 
 PASSED = [Check('STARTED', True, 'first'), Check('FINISHED', True, 'last')]
 FAILED = [Check('STARTED', True, 'first'), Check('FINISHED', False, 'never sent')]
 
 
 def verdict(name, checks, points=1.0, error=''):
-    course = Course(name, Path(f'{name}.txt'), (), points=points)
+    course = Course(name, (), points=points, waypoint_file=Path(f'{name}.txt'))
     return CourseVerdict(course, list(checks), ProcessOutcome(seconds=1.5), error, 3.25, 1.5)
 
 

@@ -2,16 +2,16 @@
 
 import math
 
-from lab_grader.courses import Course
-from lab_grader.evidence import Report, RunEvidence
 from lab_grader.verdicts import Judge, LATENCY, ProcessOutcome
 import numpy as np
 import pytest
-from waypoint_controller.status import parse_status
-from waypoint_controller.waypoints import Waypoint
+from waypoint_lab.course import Course
+from waypoint_lab.run import Report, Run
+from waypoint_lab.status import parse_status
+from waypoint_lab.waypoints import Waypoint
 
 STEP = 0.02
-COURSE = Course('line', None, (Waypoint(2.0, 2.0, 0.0), Waypoint(3.0, 2.0, 0.0)))
+COURSE = Course('line', (Waypoint(2.0, 2.0, 0.0), Waypoint(3.0, 2.0, 0.0)))
 
 
 def drive(seconds_still_after=2.0):
@@ -47,8 +47,8 @@ def honest_reports(times, poses, delay=0.0):
 def judge(reports, outcome=ProcessOutcome(ended_by='SIGINT', exit_code=-2), course=COURSE,
           still_after=2.0, stalled=0):
     times, poses = drive(still_after)
-    evidence = RunEvidence(times, poses, reports, stalled, 3.0 if stalled else None)
-    return Judge(course, evidence, outcome)
+    run = Run(course, times, poses, reports, stalled, 3.0 if stalled else None)
+    return Judge(course, run, outcome)
 
 
 def checks(reports, **options):
@@ -120,7 +120,7 @@ def test_a_robot_still_moving_after_finished_fails_and_lockstep_stands_still():
     time, pose = at(times, poses, 2.3)
     moving = [started, first, report(f'WAYPOINT 2 {pose_text(pose)}', time),
               report('FINISHED', time)]
-    course = Course('line', None, (Waypoint(2.0, 2.0, 0.0), Waypoint(2.3, 2.0, 0.0)))
+    course = Course('line', (Waypoint(2.0, 2.0, 0.0), Waypoint(2.3, 2.0, 0.0)))
     assert 'the robot did not stop: it moved' in failing(moving, course=course)['FINISHED']
     assert 'did not step on after it' in checks(
         honest_reports(*drive(0.4)), still_after=0.4)['FINISHED'].evidence
@@ -132,7 +132,7 @@ def test_contact_and_graded_limits():
     assert failing(reports, stalled=5) == {
         'no wall contact': 'pushed against a wall for 0.10 s (5 steps), first at t = 3.00 s '
         'at (2.000, 2.000, 0.0°)'}
-    limited = Course('line', None, COURSE.waypoints, max_time=4.0, max_path_length=3.0)
+    limited = Course('line', COURSE.waypoints, max_time=4.0, max_path_length=3.0)
     results = checks(reports, course=limited)
     assert not results['time'].passed and results['time'].evidence == (
         '4.50 s, over the limit of 4 s')

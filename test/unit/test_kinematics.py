@@ -4,7 +4,8 @@ import math
 
 import numpy as np
 import pytest
-from stdr_lite.core.kinematics import arc_step, euler_step, wrap_angle
+from simple_robot_control.pose import wrap_angle
+from stdr_lite.core.kinematics import arc_step, euler_step
 
 
 def closed_form_arc(x, y, theta, v, omega, t):

@@ -5,7 +5,7 @@ import math
 from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import pytest
 from waypoint_controller.control_law import ControllerConfig
-from waypoint_controller.waypoints import Waypoint
+from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()
 SPEED, RATE = CONFIG.max_linear_speed, CONFIG.max_angular_speed

@@ -7,10 +7,11 @@ import pytest
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.clearance import Clearance
-from waypoint_controller.control_law import ControllerConfig, CourseFollower, in_goal_set
+from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.planner import (fastest_plan, goal_set_poses, Limits,
                                          plan_to_goal_set, ReedsSheppPlan, TurnPlan)
-from waypoint_controller.waypoints import Waypoint
+from waypoint_lab.course import in_goal_set
+from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()
 LIMITS = CONFIG.limits
@@ -19,7 +20,7 @@ LIMITS = CONFIG.limits
 def test_every_end_pose_tried_lies_inside_the_goal_set():
     waypoint = Waypoint(1.0, -2.0, 3.0)
     for pose in goal_set_poses((waypoint.x, waypoint.y, waypoint.theta), LIMITS):
-        assert in_goal_set(pose, waypoint, CONFIG)
+        assert in_goal_set(pose, waypoint)
 
 
 def test_a_turn_on_the_spot_beats_any_path_when_the_position_is_right():
@@ -77,7 +78,7 @@ def test_a_waypoint_beside_a_wall_facing_away_is_reached_without_touching_it():
             pose = tuple(float(v) for v in arc_step(*pose, step.linear, step.angular, 0.05))
             trace.append(pose)
         poses[name] = trace
-    assert in_goal_set(poses['free'][-1], waypoint, CONFIG)
+    assert in_goal_set(poses['free'][-1], waypoint)
     assert min(clearance.at(x, y) for x, y, _ in poses['free']) > 0.2 - 0.005
     assert min(clearance.at(x, y) for x, y, _ in poses['blind']) < 0.2
 

@@ -4,13 +4,13 @@ from pathlib import Path
 import re
 
 import pytest
-from simple_robot_control import record_run
 from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot
 from stdr_lite.node import stdr_lite
 from stdr_lite.tools import move_robot
 from stdr_lite.viewer import stdr_viewer
-from waypoint_controller import course_monitor, waypoint_controller
+from waypoint_controller import waypoint_controller
+from waypoint_lab import course_monitor, record_run
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PAGES = [REPOSITORY / 'README.md', *sorted(REPOSITORY.glob('doc/*.md'))]

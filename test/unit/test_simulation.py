@@ -152,12 +152,12 @@ def test_readings_see_walls_and_other_robots(room):
 def test_lockstep_waits_for_every_robot_once_and_never_for_an_obstacle(room):
     simulation = Simulation(room, robots=[robot('a', 2.0), robot('b', 5.0)])
     simulation.add_obstacle('rock', 0.3, (8.0, 2.0, 0.0))
-    assert not simulation.answers.awaiting
-    simulation.expect_answers()
-    assert simulation.answers.answer('a') and simulation.answers.awaiting
-    assert not simulation.answers.answer('a')
+    assert not simulation.awaited_commands.awaiting
+    simulation.await_commands()
+    assert simulation.awaited_commands.answer('a') and simulation.awaited_commands.awaiting
+    assert not simulation.awaited_commands.answer('a')
     simulation.remove('b')
-    assert not simulation.answers.awaiting
+    assert not simulation.awaited_commands.awaiting
 
 
 def test_obstacles_block_robots_and_are_seen_by_sensors(room):

@@ -3,8 +3,8 @@
 import math
 
 import pytest
-from waypoint_controller.status import (aborted, finished, parse_status, started, Status,
-                                        waypoint_reached)
+from waypoint_lab.status import (aborted, finished, parse_status, started, Status,
+                                 waypoint_reached)
 
 
 def test_messages_carry_poses_with_theta_in_degrees():

@@ -5,8 +5,8 @@ import os
 
 from hypothesis import given, strategies as st
 import pytest
-from waypoint_controller.waypoints import (load_waypoints, MAX_WAYPOINTS, parse_waypoints,
-                                           Waypoint, WaypointFileError)
+from waypoint_lab.waypoints import (load_waypoints, MAX_WAYPOINTS, parse_waypoints,
+                                    Waypoint, WaypointFileError)
 
 
 def test_lab_format_all_on_one_line():

@@ -14,16 +14,18 @@ import gymnasium as gym
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 import numpy as np
-from stdr_lite.learning import MAX_EPISODE_STEPS
-from stdr_lite.learning.arena import Arena
-from stdr_lite.learning.course import TaskSettings
-from stdr_lite.learning.rendering import ArenaPicture
-from stdr_lite.learning.waypoints_env import spaces_of
+from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                 MAX_LINEAR_SPEED)
+from waypoint_lab.learning import MAX_EPISODE_STEPS
+from waypoint_lab.learning.arena import Arena
+from waypoint_lab.learning.rendering import ArenaPicture
+from waypoint_lab.learning.task import TaskSettings
+from waypoint_lab.learning.waypoints_env import spaces_of
 
 
 class WaypointsVectorEnv(VectorEnv):
     """
-    num_envs robots of stdr_lite/Waypoints-v0 in one world (parameters as WaypointsEnv's).
+    num_envs robots of waypoint_lab/Waypoints-v0 in one world (parameters as WaypointsEnv's).
 
     max_episode_steps truncates each episode, as the single environment's registration does.
     """
@@ -31,8 +33,10 @@ class WaypointsVectorEnv(VectorEnv):
     metadata = {'render_modes': ['rgb_array', 'human'], 'render_fps': 10,
                 'autoreset_mode': AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_envs=8, waypoints=3, distance_tolerance=0.1, angle_tolerance=5.0,
-                 laser_rays=64, max_linear_speed=0.5, max_angular_speed=1.0, map_name='', robot='',
+    def __init__(self, num_envs=8, waypoints=3, distance_tolerance=DISTANCE_TOLERANCE,
+                 angle_tolerance=math.degrees(ANGLE_TOLERANCE),
+                 laser_rays=64, max_linear_speed=MAX_LINEAR_SPEED,
+                 max_angular_speed=MAX_ANGULAR_SPEED, map_name='', robot='',
                  rate_hz=10.0, random_start=True, sensor_noise=True,
                  max_episode_steps=MAX_EPISODE_STEPS, render_mode=None):
         self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
@@ -59,7 +63,7 @@ class WaypointsVectorEnv(VectorEnv):
             self._np_random_seed = seeds[0]
         # Each draws the seed a WaypointsEnv draws for its world, so that their draws agree.
         world_seeds = [int(generator.integers(2 ** 31)) for generator in self._generators]
-        self.arena.world.reset(seed=world_seeds[0])
+        self.arena.simulation.reset(seed=world_seeds[0])
         for robot, generator in enumerate(self._generators):
             self.arena.restart(robot, generator, options)
         self.arena.courses.start(self.arena.poses)

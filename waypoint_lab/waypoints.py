@@ -1,8 +1,8 @@
 """Waypoint files: whitespace-separated numbers read as triples x y theta (m, m, degrees)."""
 
-from dataclasses import dataclass
 import math
 import os
+from typing import NamedTuple
 
 from simple_robot_control.input_files import read_text
 from simple_robot_control.validation import Bounds, compact, describe, parse_decimal
@@ -20,9 +20,8 @@ class WaypointFileError(ValueError):
     """A waypoint file that cannot be used; the message is one line naming file, line, token."""
 
 
-@dataclass(frozen=True)
-class Waypoint:
-    """A goal pose; theta is in radians (the file gives degrees)."""
+class Waypoint(NamedTuple):
+    """A goal pose (x, y, theta); theta is in radians (the file gives degrees)."""
 
     x: float
     y: float

@@ -1,9 +1,9 @@
 """
-What the controller and the monitor of a run share: the course, its goal set, its topics.
+The lab on ROS: the course as parameters, robot_status's QoS, the course as a nav_msgs/Path.
 
-course_monitor watches the run that waypoint_controller drives, so both read the course by the
-same rules, declare these parameters with the same meaning, and use the same QoS for
-robot_status.
+A controller and a monitor of its run (course_monitor, a learned policy's controller) read
+the course by the same rules, declare these parameters with the same meaning, and use the same
+QoS for robot_status, so any of them can watch or grade any other.
 """
 
 import math
@@ -16,13 +16,8 @@ from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.pose import set_pose
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
 from simple_robot_control.validation import Bounds
-from waypoint_controller.control_law import ControllerConfig
-from waypoint_controller.waypoints import load_waypoints, WaypointFileError
-
-DEFAULTS = ControllerConfig()
-STATUS_TOPIC = 'robot_status'
-# The course the controller follows, as a nav_msgs/Path: for RViz, and for a run's bag.
-COURSE_TOPIC = 'waypoints'
+from waypoint_lab.course import ANGLE_TOLERANCE, DISTANCE_TOLERANCE
+from waypoint_lab.waypoints import load_waypoints, WaypointFileError
 
 COURSE_PARAMETERS = (
     ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
@@ -30,9 +25,9 @@ COURSE_PARAMETERS = (
                   f'{BUNDLED_COURSE[-1]}'),
     ParameterSpec('robot_name', 'robot0', 'the robot of the run: topics <name>/odom and '
                   '<name>/cmd_vel', ros_name=True),
-    ParameterSpec('distance_tolerance', DEFAULTS.distance_tolerance, 'goal set radius d [m]',
+    ParameterSpec('distance_tolerance', DISTANCE_TOLERANCE, 'goal set radius d [m]',
                   Bounds(0.0, 10.0, low_open=True), tunable=True),
-    ParameterSpec('angle_tolerance_deg', math.degrees(DEFAULTS.angle_tolerance),
+    ParameterSpec('angle_tolerance_deg', math.degrees(ANGLE_TOLERANCE),
                   'goal set heading tolerance t [degrees, as in the lab]',
                   Bounds(0.0, 180.0, low_open=True), tunable=True),
 )

@@ -1,5 +1,5 @@
 """
-stdr_lite/Waypoints-v0: the lab's assignment as a Gymnasium environment.
+waypoint_lab/Waypoints-v0: the lab's assignment as a Gymnasium environment.
 
 A robot of the lab (a 0.2 m disc and its laser) starts somewhere free in a world (the lab's
 room by default) and must reach a course of waypoints' goal sets in turn, as the lab's
@@ -14,9 +14,11 @@ import math
 import gymnasium as gym
 from gymnasium import spaces
 import numpy as np
-from stdr_lite.learning.arena import Arena
-from stdr_lite.learning.course import FAR, GOAL_FEATURES, TaskSettings
-from stdr_lite.learning.rendering import ArenaPicture
+from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                 MAX_LINEAR_SPEED)
+from waypoint_lab.learning.arena import Arena
+from waypoint_lab.learning.rendering import ArenaPicture
+from waypoint_lab.learning.task import FAR, GOAL_FEATURES, TaskSettings
 
 
 def spaces_of(task: TaskSettings) -> tuple[spaces.Box, spaces.Box]:
@@ -44,8 +46,10 @@ class WaypointsEnv(gym.Env):
 
     metadata = {'render_modes': ['rgb_array', 'human'], 'render_fps': 10}
 
-    def __init__(self, waypoints=3, distance_tolerance=0.1, angle_tolerance=5.0, laser_rays=64,
-                 max_linear_speed=0.5, max_angular_speed=1.0, map_name='', robot='', rate_hz=10.0,
+    def __init__(self, waypoints=3, distance_tolerance=DISTANCE_TOLERANCE,
+                 angle_tolerance=math.degrees(ANGLE_TOLERANCE), laser_rays=64,
+                 max_linear_speed=MAX_LINEAR_SPEED,
+                 max_angular_speed=MAX_ANGULAR_SPEED, map_name='', robot='', rate_hz=10.0,
                  random_start=True, sensor_noise=True, render_mode=None):
         self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
                                  laser_rays, max_linear_speed, max_angular_speed,
@@ -61,7 +65,7 @@ class WaypointsEnv(gym.Env):
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
-        self.arena.world.reset(seed=int(self.np_random.integers(2 ** 31)))
+        self.arena.simulation.reset(seed=int(self.np_random.integers(2 ** 31)))
         self.arena.restart(0, self.np_random, options)
         self.arena.courses.start(self.arena.poses)
         self._status = 'STARTED'

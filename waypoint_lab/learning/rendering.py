@@ -31,8 +31,8 @@ class ArenaPicture:
                         else pygame.Surface(SIZE))
         if mode == 'human':
             pygame.display.set_caption('stdr_lite: waypoints')
-        grid = arena.world.occupancy_map
-        self.scene = Scene(default_look=RobotLook(arena.world.robot(arena.names[0]).radius,
+        grid = arena.simulation.occupancy_map
+        self.scene = Scene(default_look=RobotLook(arena.simulation.robot(arena.names[0]).radius,
                                                   {arena.laser.frame_id: arena.laser.pose}))
         shades = np.full(grid.cells.shape, 255, dtype=np.uint8)
         shades[grid.cells < 0] = 205

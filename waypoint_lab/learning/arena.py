@@ -12,14 +12,15 @@ from dataclasses import replace
 
 import numpy as np
 from stdr_lite.core.entities import SimulationSettings
-from stdr_lite.core.loading import LAB_START, load_world, robot_entries, robot_file
+from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
-from stdr_lite.learning.course import Courses, observe, sample_course, TaskSettings
+from waypoint_lab.course import START
+from waypoint_lab.learning.task import Courses, observe, sample_course, TaskSettings
 
 
 def laser_robot(robot: str, rays: int):
     """Return a robot's description with its first laser alone, cast with rays rays."""
-    [entry] = robot_entries([('robot', LAB_START, robot_file(robot))])
+    [entry] = robot_entries([('robot', START, robot_file(robot))])
     description = entry.description
     if not description.lasers:
         raise ValueError(f'{robot or "lab_robot"}: a robot without a laser cannot be observed')
@@ -42,11 +43,11 @@ class Arena:
         settings = SimulationSettings(rate_hz=rate_hz,
                                       sensor_noise='auto' if sensor_noise else 'none',
                                       bodies_meet=bodies_meet)
-        self.world = load_world(map_name, [RobotEntry(f'robot{index}', description, LAB_START)
-                                           for index in range(count)], settings)
-        self.names = self.world.robot_names
+        self.simulation = load_world(map_name, [RobotEntry(f'robot{index}', description, START)
+                                                for index in range(count)], settings)
+        self.names = self.simulation.robot_names
         # The laser as the world reads it: without its noise where none is applied.
-        self.laser = self.world.robot(self.names[0]).sensors[0].spec
+        self.laser = self.simulation.robot(self.names[0]).sensors[0].spec
         self.courses = Courses(np.zeros((count, task.waypoints, 3)), task)
         self._clearance = task.clearance + description.radius
         self.ranges = np.full((count, task.laser_rays), np.inf)
@@ -56,32 +57,32 @@ class Arena:
     def poses(self) -> np.ndarray:
         """Return the robots' poses, as of the last step or restart."""
         if self._poses is None:
-            self._poses = self.world.robot_poses()
+            self._poses = self.simulation.robot_poses()
         return self._poses
 
     def is_free(self, x: float, y: float) -> bool:
         """Whether a waypoint (or a start) at (x, y) keeps the task's clearance from walls."""
-        extent_x, extent_y = self.world.occupancy_map.extent
-        map_x, map_y = self.world.world.checker.to_map_frame(x, y)
+        extent_x, extent_y = self.simulation.occupancy_map.extent
+        map_x, map_y = self.simulation.world.checker.to_map_frame(x, y)
         return (0.0 <= map_x < extent_x and 0.0 <= map_y < extent_y
-                and not self.world.world.checker.touches(x, y, self._clearance))
+                and not self.simulation.world.checker.touches(x, y, self._clearance))
 
     def restart(self, robot: int, rng: np.random.Generator, options: dict | None = None):
         """Put a robot at a new start with a new course: from rng, unless options give them."""
         options = options or {}
         start = options.get('start')
         if start is None:
-            start = LAB_START
+            start = START
             if self.task.random_start:
-                start = sample_course(rng, self.is_free, LAB_START, replace(
+                start = sample_course(rng, self.is_free, START, replace(
                     self.task, waypoints=1, course_step=20.0))[0]
         start = np.asarray(start, dtype=float)
         waypoints = options.get('waypoints')
         waypoints = (sample_course(rng, self.is_free, start, self.task) if waypoints is None
                      else np.asarray(waypoints, dtype=float).reshape(-1, 3))
         name = self.names[robot]
-        self.world.teleport(name, tuple(start))
-        self.world.command(name, 0.0, 0.0)
+        self.simulation.teleport(name, tuple(start))
+        self.simulation.command(name, 0.0, 0.0)
         self._poses = None
         self.courses.restart(robot, waypoints, start)
 
@@ -90,15 +91,15 @@ class Arena:
         actions = np.asarray(actions, dtype=float).reshape(len(self.names), 2)
         limits = np.array([self.task.max_linear_speed, self.task.max_angular_speed])
         actions = np.clip(actions, -limits, limits)
-        self.world.command_robots(actions[:, 0], actions[:, 1])
+        self.simulation.command_robots(actions[:, 0], actions[:, 1])
 
     def step(self) -> tuple:
         """Step the world once; return (reward, reached a waypoint, finished) per robot."""
-        self.world.step()
-        self._poses = self.world.robot_poses()
-        return self.courses.update(self._poses, self.world.robots_stalled())
+        self.simulation.step()
+        self._poses = self.simulation.robot_poses()
+        return self.courses.update(self._poses, self.simulation.robots_stalled())
 
     def observations(self) -> np.ndarray:
         """Return every robot's observation (see course.observe)."""
-        self.ranges = self.world.read_lasers(self.names, self.laser)
+        self.ranges = self.simulation.read_lasers(self.names, self.laser)
         return observe(self.ranges, self.laser.max_range, self.poses, self.courses.goals)

@@ -2,12 +2,11 @@
 A policy learned in process, driving a robot of a live stdr_lite through ROS, unchanged.
 
 PolicyController is a node: from the robot's odometry and laser it builds the observation a
-WaypointsEnv would give (course.observe), asks the policy (any callable: observation ->
+WaypointsEnv would give (task.observe), asks the policy (any callable: observation ->
 (linear m/s, angular rad/s)) for an action at the environment's rate, sends it as cmd_vel, and
-reports on robot_status as the lab asks (STARTED, WAYPOINT n, FINISHED, in the texts and with the
-QoS of waypoint_controller's own), so that grade_lab can
-grade it as it grades a student's controller. The laser's rays are taken at the environment's
-angles (the nearest ray of the scan to each): a scan of the same rays gives the same
+reports on robot_status as the lab asks (status.py's texts, interface.py's QoS), so that
+grade_lab can grade it as it grades a student's controller. The laser's rays are taken at the
+environment's angles (the nearest ray of the scan to each): a scan of the same rays gives the same
 observation to the bit.
 """
 
@@ -20,10 +19,11 @@ from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.pose import pose_from_message
 from std_msgs.msg import String
 from stdr_lite.core.sensors import relative_angles
-from stdr_lite.learning.arena import laser_robot
-from stdr_lite.learning.course import Courses, observe, TaskSettings
-from waypoint_controller import status
-from waypoint_controller.course import status_qos, STATUS_TOPIC
+from waypoint_lab import status
+from waypoint_lab.course import STATUS_TOPIC
+from waypoint_lab.interface import status_qos
+from waypoint_lab.learning.arena import laser_robot
+from waypoint_lab.learning.task import Courses, observe, TaskSettings
 
 
 def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:

@@ -8,10 +8,16 @@ writes (see bag.py and bag_recording.py), for ros2 bag, Foxglove, rosbags and pl
 import sys
 
 from rclpy.task import Future
-from simple_robot_control.bag_recording import BagRecording, RUN_TOPICS
+from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
+from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+
+# What makes a run of the lab: the controller's reports and course, every robot's odometry and
+# ground truth, the frames, the map and the time.
+RUN_TOPICS = (f'/{STATUS_TOPIC}', f'/{COURSE_TOPIC}', '/tf', '/tf_static', '/map', '/clock',
+              '*/odom', '*/ground_truth')
 
 PARAMETERS = (
     ParameterSpec('bag', 'run.mcap', 'the bag to write, an .mcap file (replaced if it exists)'),

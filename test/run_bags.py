@@ -1,14 +1,10 @@
-"""A run read back from a bag: course, path and statuses; foreign statuses and cut bags."""
+"""Runs written as bags, as the lab's recorders write them, for the tests of runs and plot_run."""
 
 import math
 
 import numpy as np
-import pytest
 from rosbags.typesys import get_typestore, Stores
 from simple_robot_control.bag import BagWriter
-from waypoint_controller.plot_run import main as plot_run
-from waypoint_controller.run_bag import load_bag
-from waypoint_controller.run_record import RunRecordError
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 T = STORE.types
@@ -67,48 +63,3 @@ def write_run(path, steps=100, finish=True, goal_x=3.0):
         for text in ('WAYPOINT 1 3.000 2.000 0.00', 'FINISHED'):
             write(status, time, T['std_msgs/msg/String'](data=text), 'std_msgs/msg/String')
     return bag
-
-
-def test_a_bag_gives_the_course_the_path_and_the_dated_statuses(tmp_path):
-    write_run(tmp_path / 'run.mcap').close()
-    record = load_bag(tmp_path / 'run.mcap')
-    assert [(w.x, w.y, w.theta) for w in record.waypoints] == [(3.0, 2.0, 0.0)]
-    assert len(record.poses) == 101 and record.poses[-1] == pytest.approx((3.0, 2.0, 0.0))
-    assert [text for _, text in record.statuses] == [
-        'STARTED 1.000 2.000 0.00', 'WAYPOINT 1 3.000 2.000 0.00', 'FINISHED']
-    assert record.statuses[1][0] == pytest.approx(2.0) and record.result == 'FINISHED'
-    assert len(record.skipped_lines) == 1 and record.cut_short_line is None
-
-
-def test_a_bag_folder_is_read_as_its_mcap_file(tmp_path):
-    (tmp_path / 'run').mkdir()
-    write_run(tmp_path / 'run' / 'run_0.mcap').close()
-    assert load_bag(tmp_path / 'run').result == 'FINISHED'
-
-
-def test_a_bag_cut_short_is_read_up_to_its_last_chunk(tmp_path):
-    bag = write_run(tmp_path / 'cut.mcap', steps=20_000, finish=False)
-    bag._stream.flush()  # killed here: no summary, the last chunk unwritten
-    record = load_bag(tmp_path / 'cut.mcap')
-    assert 0 < len(record.poses) < 20_001 and record.cut_short_line is not None
-    assert record.result is None
-
-
-def test_a_bag_without_the_course_needs_it_given(tmp_path):
-    bag = BagWriter(tmp_path / 'run.mcap')
-    channel = bag.add_topic('/robot0/odom', 'nav_msgs/msg/Odometry', LATCHED)
-    bag.write(channel, 0, STORE.serialize_cdr(odometry(0.0, 1.0), 'nav_msgs/msg/Odometry'))
-    bag.close()
-    with pytest.raises(RunRecordError, match='no /waypoints in the bag'):
-        load_bag(tmp_path / 'run.mcap')
-    assert len(load_bag(tmp_path / 'run.mcap', course=[]).poses) == 1
-
-
-def test_a_course_off_any_map_is_refused_in_one_line(tmp_path, capsys):
-    write_run(tmp_path / 'run.mcap', goal_x=1e308).close()
-    with pytest.raises(RunRecordError, match='/waypoints: a waypoint off any map'):
-        load_bag(tmp_path / 'run.mcap')
-    assert plot_run([str(tmp_path / 'run.mcap')]) == 2
-    error = capsys.readouterr().err
-    assert len(error.splitlines()) == 1 and 'a waypoint off any map' in error
-    assert not (tmp_path / 'run.png').exists()

@@ -1,9 +1,11 @@
 """
 course_monitor: print robot_status as it arrives, show progress, and record the run.
 
-It only listens, so it can watch any waypoint_controller run, including one already under way:
-robot_status is transient local, so it still receives every message from STARTED on. The
-record is a rosbag2 bag in MCAP (bag_recording.py), which plot_run draws.
+It only listens, so it can watch any controller's run of the lab, including one already under
+way: robot_status is transient local, so it still receives every message from STARTED on. A
+status is dated as run.py dates it, by the latest odometry heard before it (one heard before
+any odometry, by the first). The record is a rosbag2 bag in MCAP (bag_recording.py), which
+plot_run draws.
 """
 
 import dataclasses
@@ -24,9 +26,10 @@ from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import shorten
 from std_msgs.msg import String
-from waypoint_controller.course import COURSE_PARAMETERS, load_course, status_qos, STATUS_TOPIC
-from waypoint_controller.run_record import StatusClock
-from waypoint_controller.status import ABORTED, FINISHED, parse_status, STARTED, WAYPOINT
+from waypoint_lab.course import STATUS_TOPIC
+from waypoint_lab.interface import COURSE_PARAMETERS, load_course, status_qos
+from waypoint_lab.record_run import RUN_TOPICS
+from waypoint_lab.status import ABORTED, FINISHED, parse_status, STARTED, WAYPOINT
 
 PROGRESS_PERIOD = 0.1
 BAR_WIDTH = 20
@@ -56,14 +59,20 @@ class CourseMonitor(GuardedNode):
         self._interactive = sys.stdout.isatty() if interactive is None else interactive
         self._total = len(waypoints)
         self._done = 0
-        self._status_clock = StatusClock()
+        # The latest odometry stamp heard (seconds); None before any.
+        self.sim_time = None
         # The odometry stamp of STARTED, once there is odometry to date it by.
         self._sim_started = None
+        self._started_unseen = False
         self._wall_started = None
         self._progress_shown = False
-        self.recording = (BagRecording(self, params['bag'], inputs=[path],
+        self.recording = (BagRecording(self, params['bag'], RUN_TOPICS, inputs=[path],
                                        course=os.path.basename(path)) if params['bag']
                           else None)
+        if self.recording is not None:
+            # From the start, as the monitor hears them: a status is dated by what came before.
+            self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String',
+                                      status_qos(self._total))
         self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
         self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,
                                  100)
@@ -77,10 +86,9 @@ class CourseMonitor(GuardedNode):
             self.get_logger().warn('ignoring odometry whose pose is not finite',
                                    throttle_duration_sec=5.0)
             return
-        self._status_clock.odometry(stamp, pose)
-        for date, text in self._status_clock.dated_late():
-            if parse_status(text).kind == STARTED:
-                self._sim_started = date
+        self.sim_time = stamp
+        if self._started_unseen:
+            self._sim_started, self._started_unseen = stamp, False
 
     def _on_status(self, message):
         if self.finished.done():
@@ -94,10 +102,10 @@ class CourseMonitor(GuardedNode):
             self._write(f'(not a status of this course: {shorten(repr(text), 80)})\n')
             return
         kind = status.kind
-        date = self._status_clock.date(text)
+        date = self.sim_time
         if kind == STARTED:
             self._wall_started = time.monotonic()
-            self._sim_started = date
+            self._sim_started, self._started_unseen = date, date is None
         elif kind == WAYPOINT:
             self._done += 1
         self._clear_progress()
@@ -109,7 +117,7 @@ class CourseMonitor(GuardedNode):
             self._show_progress()
 
     def _progress_text(self, sim_time=None):
-        sim_time = self._status_clock.now if sim_time is None else sim_time
+        sim_time = self.sim_time if sim_time is None else sim_time
         run_time = (0.0 if sim_time is None or self._sim_started is None
                     else sim_time - self._sim_started)
         wall = 0.0 if self._wall_started is None else time.monotonic() - self._wall_started

@@ -2,8 +2,8 @@
 The lab's task, for learning: reach a course of goal sets, seen through a laser. No ROS here.
 
 Every function works on N robots at once (numpy arrays, one row a robot), so one environment
-and a vector of them share the rules to the last bit. The goal set is the lab's: within d
-metres of the waypoint, heading within t of its heading (wrapped). The reward, per step:
+and a vector of them share the rules to the last bit. The goal set is the lab's
+(waypoint_lab/course.py). The reward, per step:
 
     progress   +1 per metre closer to the current waypoint
     turning    +0.5 per radian of heading error removed, once within d of it
@@ -18,6 +18,8 @@ from dataclasses import dataclass
 import math
 
 import numpy as np
+from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, goal_errors, in_goal_set,
+                                 MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED)
 
 PROGRESS = 1.0
 TURNING = 0.5
@@ -36,35 +38,18 @@ class TaskSettings:
 
     Waypoints are drawn at least clearance from any wall and at most course_step from the
     previous one (or the start); the start is drawn too unless random_start is False (the
-    lab's (1, 2, 0) then).
+    lab's START then).
     """
 
     waypoints: int = 3
-    distance_tolerance: float = 0.1
-    angle_tolerance: float = math.radians(5.0)
+    distance_tolerance: float = DISTANCE_TOLERANCE
+    angle_tolerance: float = ANGLE_TOLERANCE
     laser_rays: int = 64
-    max_linear_speed: float = 0.5
-    max_angular_speed: float = 1.0
+    max_linear_speed: float = MAX_LINEAR_SPEED
+    max_angular_speed: float = MAX_ANGULAR_SPEED
     clearance: float = 0.4
     course_step: float = 3.0
     random_start: bool = True
-
-
-def wrapped(angles: np.ndarray) -> np.ndarray:
-    """Return angles wrapped to [-pi, pi)."""
-    return np.remainder(np.asarray(angles) + math.pi, math.tau) - math.pi
-
-
-def goal_errors(poses: np.ndarray, goals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Return each robot's distance to its goal and the absolute heading error (wrapped)."""
-    distance = np.hypot(goals[:, 0] - poses[:, 0], goals[:, 1] - poses[:, 1])
-    return distance, np.abs(wrapped(goals[:, 2] - poses[:, 2]))
-
-
-def in_goal_set(poses: np.ndarray, goals: np.ndarray, settings: TaskSettings) -> np.ndarray:
-    """Whether each pose lies in its goal's set, as the lab defines it."""
-    distance, heading = goal_errors(poses, goals)
-    return (distance <= settings.distance_tolerance) & (heading <= settings.angle_tolerance)
 
 
 def observe(ranges: np.ndarray, max_range: float, poses: np.ndarray,
@@ -141,7 +126,8 @@ class Courses:
         reward = (PROGRESS * (before_distance - distance)
                   + TURNING * near * (before_heading - heading)
                   - STALL * stalled - TIME)
-        reached = running & near & (heading <= settings.angle_tolerance)
+        reached = running & in_goal_set(poses, self.goals, settings.distance_tolerance,
+                                        settings.angle_tolerance)
         reward = np.where(running, reward + WAYPOINT * reached, 0.0)
         self._errors = distance, heading
         if reached.any():

@@ -1,10 +1,12 @@
 """
-plot_run: draw a recorded run over its map as a PNG.
+plot_run: draw a recorded run over its map as a PNG (and export it as JSON lines).
 
-Figures are built with matplotlib's object API and the Agg canvas, never pyplot, so no display
-or GUI toolkit is involved and nothing global is left behind.
+The run is read from its bag as grade_lab reads it (run.py); figures are built with
+matplotlib's object API and the Agg canvas, never pyplot, so no display or GUI toolkit is
+involved and nothing global is left behind.
 """
 
+import json
 import math
 import os
 import sys
@@ -15,16 +17,15 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.transforms import Affine2D
 import numpy as np
-from simple_robot_control.bag_reading import is_bag
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.input_files import output_problem
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, shared_file
-from simple_robot_control.validation import Bounds, compact
-from waypoint_controller.run_bag import load_bag
-from waypoint_controller.run_record import export_run, load_run, RunRecordError
-from waypoint_controller.status import STARTED, WAYPOINT
-from waypoint_controller.waypoints import load_waypoints, WaypointFileError
+from simple_robot_control.validation import Bounds, compact, shorten
+from waypoint_lab.course import Course
+from waypoint_lab.run import read_run, Run, RunError
+from waypoint_lab.status import STARTED, WAYPOINT
+from waypoint_lab.waypoints import load_waypoints, WaypointFileError
 
 FIGURE_SIZE = (10.0, 7.5)
 DPI = 100
@@ -35,25 +36,26 @@ RADIUS = Bounds(0.0, 10.0, low_open=True)
 MAX_NUMBERED_WAYPOINTS = 100
 
 
-def render_run(record, occupancy_map, robot_radius, output_path, title=None):
+def render_run(run: Run, occupancy_map, robot_radius: float, output_path: str | os.PathLike,
+               title: str | None = None) -> None:
     """Write a PNG of the run: walls, path coloured by time, goals, reports, footprints."""
     figure = Figure(figsize=FIGURE_SIZE, dpi=DPI, layout='constrained')
     FigureCanvasAgg(figure)
     axes = figure.subplots()
     _draw_map(axes, occupancy_map)
-    _draw_path(figure, axes, record)
-    _draw_waypoints(axes, record)
-    _draw_reports(axes, record)
-    _draw_footprints(axes, record, robot_radius)
-    _zoom_to_run(axes, record)
+    _draw_path(figure, axes, run)
+    _draw_waypoints(axes, run.course)
+    _draw_reports(axes, run)
+    _draw_footprints(axes, run, robot_radius)
+    _zoom_to_run(axes, run)
     axes.legend(loc='upper right', fontsize='small')
     axes.set_aspect('equal')
     axes.set_xlabel('x [m]')
     axes.set_ylabel('y [m]')
-    result = record.result or 'UNFINISHED'
-    named = f'{record.course}: ' if record.course else ''
-    axes.set_title(title or f'{named}{result} after {record.duration:.1f} s sim time, '
-                   f'{len(record.waypoints)} waypoints')
+    result = run.result or 'UNFINISHED'
+    named = f'{run.course.name}: ' if run.course.name else ''
+    axes.set_title(title or f'{named}{result} after {run.duration:.1f} s sim time, '
+                   f'{len(run.course.waypoints)} waypoints')
     figure.savefig(output_path, dpi=DPI, format='png')
 
 
@@ -73,9 +75,9 @@ def _draw_map(axes, occupancy_map):
     axes.set_ylim(corners[:, 1].min(), corners[:, 1].max())
 
 
-def _zoom_to_run(axes, record):
+def _zoom_to_run(axes, run):
     """Show the part of the map the run used, with a margin, rather than the whole map."""
-    points = [(w.x, w.y) for w in record.waypoints] + [pose[:2] for pose in record.poses]
+    points = [(w.x, w.y) for w in run.course.waypoints] + [pose[:2] for pose in run.poses]
     low_x, high_x = axes.get_xlim()
     low_y, high_y = axes.get_ylim()
     (min_x, min_y), (max_x, max_y) = np.min(points, axis=0), np.max(points, axis=0)
@@ -83,23 +85,23 @@ def _zoom_to_run(axes, record):
     axes.set_ylim(max(low_y, min_y - ZOOM_MARGIN), min(high_y, max_y + ZOOM_MARGIN))
 
 
-def _draw_path(figure, axes, record):
-    if len(record.poses) < 2:
+def _draw_path(figure, axes, run):
+    if len(run.poses) < 2:
         return
-    points = np.asarray(record.poses)[:, :2]
+    points = run.poses[:, :2]
     segments = np.stack([points[:-1], points[1:]], axis=1)
     path = LineCollection(segments, cmap='viridis', linewidths=2.0, zorder=3)
-    path.set_array(np.asarray(record.times)[:-1])
+    path.set_array(run.times[:-1])
     axes.add_collection(path)
     figure.colorbar(path, ax=axes, label='sim time [s]', shrink=0.8)
 
 
-def _draw_waypoints(axes, record):
+def _draw_waypoints(axes, course):
     """Each goal circle and heading arrow, in one collection each; numbers on short courses."""
-    if not record.waypoints:
+    if not course.waypoints:
         return
-    x, y, theta = np.asarray([(w.x, w.y, w.theta) for w in record.waypoints]).T
-    diameter = 2.0 * record.distance_tolerance
+    x, y, theta = np.asarray(course.waypoints).T
+    diameter = 2.0 * course.distance_tolerance
     axes.add_collection(EllipseCollection(
         np.full(x.size, diameter), np.full(x.size, diameter), np.zeros(x.size), units='xy',
         offsets=np.column_stack([x, y]), offset_transform=axes.transData, facecolors='none',
@@ -109,36 +111,54 @@ def _draw_waypoints(axes, record):
     axes.quiver(x, y, HEADING_ARROW * np.cos(theta), HEADING_ARROW * np.sin(theta),
                 angles='xy', scale_units='xy', scale=1.0, color='tab:orange', width=0.003,
                 zorder=4)
-    if len(record.waypoints) <= MAX_NUMBERED_WAYPOINTS:
-        for number, waypoint in enumerate(record.waypoints, start=1):
+    if len(course.waypoints) <= MAX_NUMBERED_WAYPOINTS:
+        for number, waypoint in enumerate(course.waypoints, start=1):
             axes.annotate(str(number), (waypoint.x, waypoint.y), textcoords='offset points',
                           xytext=(6, -12), color='tab:orange', fontweight='bold', zorder=4)
 
 
-def _draw_reports(axes, record):
+def _draw_reports(axes, run):
     """Mark the pose each WAYPOINT message reported."""
-    reported = record.reported_poses(WAYPOINT)
+    reported = run.reported_poses(WAYPOINT)
     if reported:
         x, y, _ = np.asarray(reported).T
         axes.plot(x, y, 'x', color='tab:red', markersize=9, markeredgewidth=2, zorder=5,
                   label='pose reported in WAYPOINT')
 
 
-def _draw_footprints(axes, record, robot_radius):
-    """Draw the robot where STARTED put it (else where the record begins) and where it ended."""
-    if not record.poses:
+def _draw_footprints(axes, run, robot_radius):
+    """Draw the robot where STARTED put it (else where the path begins) and where it ended."""
+    if not len(run.poses):
         return
-    started = record.reported_poses(STARTED)
-    start = record.poses[0]
-    if started:
-        start = started[0]
+    started = run.reported_poses(STARTED)
+    start = started[0] if started else run.poses[0]
     for (x, y, theta), colour, label in ((start, 'tab:green', 'robot at start'),
-                                         (record.poses[-1], 'tab:blue', 'robot at end')):
+                                         (run.poses[-1], 'tab:blue', 'robot at end')):
         axes.add_patch(Circle((x, y), robot_radius, fill=False, edgecolor=colour,
                               linewidth=2.0, zorder=6, label=label))
         axes.plot([x, x + robot_radius * math.cos(theta)],
                   [y, y + robot_radius * math.sin(theta)], color=colour, linewidth=2.0,
                   zorder=6)
+
+
+def export_jsonl(run: Run, path: str | os.PathLike) -> None:
+    """
+    Write a run as JSON lines (doc/tools.md), for tools of one's own; OSError if it cannot.
+
+    The first line describes the course; then every pose and lab status in time order (a pose
+    before a status of the same time), times in sim seconds, angles in radians.
+    """
+    course = run.course
+    entries = [{'course': course.name, 'waypoints': [list(w) for w in course.waypoints],
+                'distance_tolerance': course.distance_tolerance,
+                'angle_tolerance': course.angle_tolerance}]
+    timed = [(time, 0, {'t': time, 'pose': pose})
+             for time, pose in zip(run.times.tolist(), run.poses.tolist())]
+    timed += [(report.time, 1, {'t': report.time, 'status': report.text})
+              for report in run.statuses]
+    entries += [entry for _, _, entry in sorted(timed, key=lambda item: item[:2])]
+    with open(path, 'w', encoding='utf-8') as stream:
+        stream.writelines(json.dumps(entry) + '\n' for entry in entries)
 
 
 def main(argv=None):
@@ -147,8 +167,8 @@ def main(argv=None):
         'by time, each waypoint with its goal circle and heading, the poses reported on '
         'robot_status, and the footprint at start and end. The record is a rosbag2 bag in '
         'MCAP (from course_monitor, record_run or a ros2 bag record of the run: an .mcap file '
-        'or a bag folder), or JSON lines (plot_run --export-jsonl).')
-    parser.add_argument('record', help='the run: a bag (.mcap file or folder) or JSON lines')
+        'or a bag folder).')
+    parser.add_argument('record', help='the run: a bag (.mcap file or folder)')
     parser.add_argument('--course', help="the course's waypoint file, for a bag recorded "
                         "without the controller's /waypoints")
     parser.add_argument('--robot-name', default='robot0',
@@ -171,39 +191,43 @@ def main(argv=None):
             problem = path and output_problem(path, inputs=[args.record, args.map])
             if problem:
                 raise ValueError(f'{option} {path}: {problem}')
-        record = _load(args)
-        render_run(record, load_map(args.map), args.robot_radius, output)
-        if args.export_jsonl:
-            export_run(record, args.export_jsonl, complain=lambda line: print(
-                f'plot_run: {line}', file=sys.stderr))
-    except (RunRecordError, MapError, ValueError, OSError) as error:
+        run = _load(args)
+        render_run(run, load_map(args.map), args.robot_radius, output)
+    except (RunError, MapError, ValueError, OSError) as error:
         print(f'plot_run: error: {error}', file=sys.stderr)
         return 2
-    if record.cut_short_line is not None and is_bag(args.record):
+    if args.export_jsonl:
+        try:
+            export_jsonl(run, args.export_jsonl)
+        except OSError as error:
+            print(f'plot_run: error: {args.export_jsonl}: cannot write the export '
+                  f'({error.strerror})', file=sys.stderr)
+            return 2
+    if run.cut_short:
         print(f'plot_run: {args.record}: the bag was cut short (an interrupted recording); '
               f'drew the run up to its last complete chunk', file=sys.stderr)
-    elif record.cut_short_line is not None:
-        print(f'plot_run: {args.record}:{record.cut_short_line}: the last line was cut short '
-              '(an interrupted run); drew the run up to the line before it', file=sys.stderr)
-    if record.skipped_lines:
-        lines = ', '.join(map(str, record.skipped_lines[:5]))
-        more = ', ...' if len(record.skipped_lines) > 5 else ''
-        print(f'plot_run: {args.record}: left out {len(record.skipped_lines)} status lines that '
-              f'are no robot_status of the lab (lines {lines}{more})', file=sys.stderr)
+    foreign = run.foreign
+    if foreign:
+        texts = ', '.join(repr(shorten(report.text, 40)) for report in foreign[:3])
+        more = ', ...' if len(foreign) > 3 else ''
+        print(f'plot_run: {args.record}: left out {len(foreign)} robot_status message(s) that '
+              f'are no status of the lab ({texts}{more})', file=sys.stderr)
     print(f'wrote {output}')
     return 0
 
 
 def _load(args):
-    """Read the run from a bag or a JSON-lines record, as the path says."""
-    if not is_bag(args.record):
-        return load_run(args.record)
-    try:
-        course = load_waypoints(args.course) if args.course else None
-    except WaypointFileError as error:
-        raise ValueError(str(error)) from None
-    return load_bag(args.record, args.robot_name, course,
-                    course_name=os.path.basename(args.course) if args.course else '')
+    """Read the run from its bag, with the course given or the bag's own."""
+    course = None
+    if args.course:
+        try:
+            course = Course(os.path.basename(args.course), tuple(load_waypoints(args.course)))
+        except WaypointFileError as error:
+            raise ValueError(str(error)) from None
+    run = read_run(args.record, args.robot_name, 'odom', course)
+    if not len(run.times):
+        raise RunError(f'{args.record}: no odometry on {run.path_topic} in the bag')
+    return run
 
 
 if __name__ == '__main__':

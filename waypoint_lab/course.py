@@ -1,0 +1,76 @@
+"""
+The lab's course and its goal set: the rules every controller is judged by. No ROS here.
+
+A course is a list of waypoints (x, y, theta) reached in turn from a start pose. The goal set
+of a waypoint is every pose within d metres of it whose heading is within t of its heading
+(wrapped): the lab's d = 0.1 m and t = 5 degrees unless a course says otherwise. A controller
+reports on the topic robot_status (status.py) and publishes its course on waypoints; a bag
+holds both under their absolute names.
+"""
+
+from dataclasses import dataclass, field
+import math
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+from simple_robot_control.pose import wrap_angle
+from waypoint_lab.waypoints import Waypoint
+
+DISTANCE_TOLERANCE = 0.1
+ANGLE_TOLERANCE = math.radians(5.0)
+# Where the lab's robot starts (the lab's STDR launch puts robot0 there).
+START = (1.0, 2.0, 0.0)
+TIME_LIMIT = 120.0
+# The speeds the lab's robot is driven at unless a controller is told otherwise: the reference
+# controller's limits and the learning task's action bounds.
+MAX_LINEAR_SPEED = 0.5
+MAX_ANGULAR_SPEED = 1.0
+STATUS_TOPIC = 'robot_status'
+# The course a controller follows, as a nav_msgs/Path (transient local): for RViz and bags.
+COURSE_TOPIC = 'waypoints'
+
+
+@dataclass(frozen=True)
+class Course:
+    """
+    One course: its waypoints, its world, and how it is graded (SI units, radians).
+
+    map_file and robot_file are empty for the bundled lab_room and lab robot; max_time and
+    max_path_length, when set, are graded limits; waypoint_file and settings_file say where the
+    course was read from, if from files.
+    """
+
+    name: str
+    waypoints: tuple[Waypoint, ...]
+    start: tuple[float, float, float] = START
+    map_file: str = ''
+    robot_file: str = ''
+    time_limit: float = TIME_LIMIT
+    points: float = 1.0
+    distance_tolerance: float = DISTANCE_TOLERANCE
+    angle_tolerance: float = ANGLE_TOLERANCE
+    max_time: float | None = None
+    max_path_length: float | None = None
+    waypoint_file: Path | None = None
+    settings_file: Path | None = field(default=None, compare=False)
+
+
+def goal_errors(poses: ArrayLike, goals: ArrayLike) -> tuple:
+    """
+    Return the distance of each pose (x, y, theta) from its goal, and its heading error.
+
+    The heading error is absolute and wrapped; poses and goals broadcast (one pose against
+    many goals, a row of robots against a row of goals).
+    """
+    poses, goals = np.asarray(poses, dtype=float), np.asarray(goals, dtype=float)
+    distance = np.hypot(goals[..., 0] - poses[..., 0], goals[..., 1] - poses[..., 1])
+    return distance, np.abs(wrap_angle(goals[..., 2] - poses[..., 2]))
+
+
+def in_goal_set(poses: ArrayLike, goals: ArrayLike,
+                distance_tolerance: float = DISTANCE_TOLERANCE,
+                angle_tolerance: float = ANGLE_TOLERANCE) -> np.ndarray | np.bool_:
+    """Whether each pose lies in its goal's set: within d of it, heading within t of its."""
+    distance, heading = goal_errors(poses, goals)
+    return (distance <= distance_tolerance) & (heading <= angle_tolerance)
