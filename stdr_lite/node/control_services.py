@@ -28,6 +28,7 @@ from stdr_lite.core.world import PlacementError
 from stdr_lite.node.messages import map_message
 from stdr_lite.node.requests import in_thread, WAIT
 from stdr_lite.node.results import MAX_ACTION_STEPS, MAX_SERVICE_STEPS, Refusal, result
+from stdr_lite.node.served import Served
 
 FEATURES = SimulatorFeatures
 IMPLEMENTED = [
@@ -58,9 +59,9 @@ def world_resource(path):
 class SimulationControl:
     """Serves time and world control on a StdrLite node."""
 
-    def __init__(self, node):
-        self._node = node
-        self._world = node.simulation.occupancy_map.source
+    def __init__(self, node, served: Served):
+        self._node, self._served = node, served
+        self._world = served.simulation.occupancy_map.source
         self._stepping = False
         for kind, name, callback in (
                 (GetSimulatorFeatures, 'get_simulator_features', self._features),
@@ -85,7 +86,7 @@ class SimulationControl:
 
     @property
     def _state(self):
-        return self._node.stepper.state
+        return self._served.stepper.state
 
     def _features(self, request, response):
         """Answer the features; the one service with no result field, as it cannot refuse."""
@@ -97,21 +98,21 @@ class SimulationControl:
         response.state.state = self._state
 
     def _set_state(self, request, response):
-        target, stepper = request.state.state, self._node.stepper
+        target, stepper = request.state.state, self._served.stepper
         if target == self._state:
             raise Refusal(response.ALREADY_IN_TARGET_STATE,
                           f'the simulation is in state {target} already')
         if target == STATE.STATE_QUITTING:
-            self._node.quit_soon()
+            self._served.quit_soon()
         elif self._state == STATE.STATE_NO_WORLD:
             raise Refusal(response.INCORRECT_TRANSITION,
                           'no world is loaded: call load_world first')
         elif target in (STATE.STATE_PLAYING, STATE.STATE_PAUSED):
             stepper.set_state(target)
         elif target == STATE.STATE_STOPPED:
-            self._node.simulation.reset()
+            self._served.simulation.reset()
             stepper.set_state(target)
-            yield from self._node.restart(new_time=True)
+            yield from self._served.restart(new_time=True)
         else:
             raise Refusal(response.INCORRECT_TRANSITION,
                           f'state {target} is reached through load_world or unload_world, '
@@ -126,7 +127,7 @@ class SimulationControl:
                           f'step_simulation takes at most {MAX_SERVICE_STEPS} steps; '
                           f'the simulate_steps action takes up to {MAX_ACTION_STEPS:,}')
         for _ in range(request.steps):
-            self._node.stepper.step_now()
+            self._served.stepper.step_now()
             yield
 
     def _accept_goal(self, goal):
@@ -156,7 +157,7 @@ class SimulationControl:
                     answer.result = result(Result.RESULT_OPERATION_FAILED,
                                            f'canceled after {done} of {steps} steps')
                     return answer
-                if not await self._node.stepper.request_step():
+                if not await self._served.stepper.request_step():
                     goal.abort()
                     answer.result = result(Result.RESULT_INCORRECT_STATE,
                                            f'the simulation left pause after {done} steps')
@@ -179,11 +180,12 @@ class SimulationControl:
                           'TIME (1), STATE (2), SPAWNED (4), ALL (255)')
         new_time = bool(scope & request.SCOPE_TIME)
         try:
-            self._node.simulation.reset(time=new_time, state=bool(scope & request.SCOPE_STATE),
-                                        spawned=bool(scope & request.SCOPE_SPAWNED))
+            self._served.simulation.reset(time=new_time,
+                                          state=bool(scope & request.SCOPE_STATE),
+                                          spawned=bool(scope & request.SCOPE_SPAWNED))
         except PlacementError as error:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
-        yield from self._node.restart(new_time=new_time)
+        yield from self._served.restart(new_time=new_time)
 
     def _available_worlds(self, request, response):
         if request.filter.tags:
@@ -231,10 +233,10 @@ class SimulationControl:
                           f'{shorten(request.uri)}: worlds are map_server YAML files')
         if not os.path.exists(path):
             raise Refusal(Result.RESULT_NOT_FOUND, f'{shorten(request.uri)}: no such file')
-        simulation = self._node.simulation
+        simulation = self._served.simulation
         # Reading the map and deriving its distance fields takes seconds for a large one: a
         # thread does it while the current world steps on; the switch itself is immediate.
-        loading = in_thread(_prepare_world, simulation, path, self._node.frames.map_frame)
+        loading = in_thread(_prepare_world, simulation, path, self._served.frames.map_frame)
         while not loading.done():
             yield WAIT
         try:
@@ -243,9 +245,9 @@ class SimulationControl:
         except (MapError, PlacementError) as error:
             raise Refusal(_load_failure_code(response, error), str(error)) from None
         self._world = path
-        self._node.stepper.set_state(STATE.STATE_STOPPED)
+        self._served.stepper.set_state(STATE.STATE_STOPPED)
         response.world = world_resource(path)
-        yield from self._node.restart(new_time=True, grid=message)
+        yield from self._served.restart(new_time=True, grid=message)
 
     def _current_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
@@ -255,9 +257,9 @@ class SimulationControl:
     def _unload_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
             raise Refusal(response.NO_WORLD_LOADED, 'no world is loaded')
-        self._node.simulation.reset(time=False, state=False, spawned=True)
-        self._node.stepper.set_state(STATE.STATE_NO_WORLD)
-        yield from self._node.entity_topics()
+        self._served.simulation.reset(time=False, state=False, spawned=True)
+        self._served.stepper.set_state(STATE.STATE_NO_WORLD)
+        yield from self._served.refresh_topics()
 
 
 def _prepare_world(simulation, path, map_frame):

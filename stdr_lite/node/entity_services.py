@@ -31,6 +31,7 @@ from stdr_lite.core.world import PlacementError
 from stdr_lite.node.messages import set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
 from stdr_lite.node.results import Refusal, result
+from stdr_lite.node.served import Served
 
 CATEGORIES = {Category.ROBOT: EntityCategory.CATEGORY_ROBOT,
               Category.STATIC_OBSTACLE: EntityCategory.CATEGORY_STATIC_OBJECT,
@@ -54,9 +55,9 @@ RESOURCE_CODES = {'no_resource': SpawnResult.NO_RESOURCE,
 class EntityServices:
     """Serves spawning, deleting, querying and moving entities on a StdrLite node."""
 
-    def __init__(self, node):
-        self._node = node
-        self._simulation = node.simulation
+    def __init__(self, node, served: Served):
+        self._node, self._served = node, served
+        self._simulation = served.simulation
         for kind, name, callback in (
                 (SpawnEntity, 'spawn_entity', self._spawn_one),
                 (SpawnEntities, 'spawn_entities', self._spawn_many),
@@ -74,7 +75,7 @@ class EntityServices:
         response.entity_name = self._spawn(request.name, request.allow_renaming, request.uri,
                                            request.resource_string, request.entity_namespace,
                                            request.initial_pose)
-        yield from self._node.entity_topics()
+        yield from self._served.refresh_topics()
 
     def _spawn_many(self, request, response):
         """Spawn each request on its own, one per slice; a failed one fails the call as a whole."""
@@ -89,7 +90,7 @@ class EntityServices:
             except Refusal as refusal:
                 outcome.result = result(refusal.code, str(refusal))
             response.results.append(outcome)
-            yield from self._node.entity_topics()
+            yield from self._served.refresh_topics()
             yield
         failed = [index for index, outcome in enumerate(response.results)
                   if outcome.result.result != Result.RESULT_OK]
@@ -99,11 +100,11 @@ class EntityServices:
 
     def _spawn(self, name, allow_renaming, uri, resource_string, namespace, pose):
         """Spawn one entity; return the name it got, or raise Refusal with the spawn code."""
-        if self._node.stepper.state == SimulationState.STATE_NO_WORLD:
+        if self._served.stepper.state == SimulationState.STATE_NO_WORLD:
             raise Refusal(Result.RESULT_INCORRECT_STATE, 'no world is loaded')
         try:
             spec = load_resource(uri, resource_string, bundled_files('robots', 'obstacles'),
-                                 self._node.search_path)
+                                 self._served.search_path)
         except SpawnResourceError as error:
             raise Refusal(RESOURCE_CODES[error.kind], str(error)) from None
         is_robot = isinstance(spec, RobotDescription)
@@ -114,7 +115,7 @@ class EntityServices:
                 self._check_names(namespace.strip('/') or name, spec, bool(namespace))
                 self._simulation.add_robot(RobotEntry(name, spec, start), spawned=True,
                                            namespace=namespace)
-                self._node.note_description(name, spec)
+                self._served.note_description(name, spec)
             elif namespace:
                 raise Refusal(SpawnResult.NAMESPACE_INVALID, 'an obstacle has no topics to '
                               'put under a namespace')
@@ -131,7 +132,7 @@ class EntityServices:
     def _check_names(self, namespace, description, namespace_given):
         """Refuse a robot whose topics or frames could not exist (see naming.py)."""
         try:
-            check_robot_names(self._node, self._node.frames, namespace, description)
+            check_robot_names(self._node, self._served.frames, namespace, description)
         except NamingProblem as problem:
             code = {'sensor': SpawnResult.RESOURCE_PARSE_ERROR,
                     'name': SpawnResult.NAMESPACE_INVALID if namespace_given
@@ -153,8 +154,8 @@ class EntityServices:
         return name
 
     def _pose(self, frame_id, pose, invalid):
-        if frame_id not in ('', 'world', self._node.frames.map_frame):
-            raise Refusal(invalid, f'poses are in the {self._node.frames.map_frame} frame '
+        if frame_id not in ('', 'world', self._served.frames.map_frame):
+            raise Refusal(invalid, f'poses are in the {self._served.frames.map_frame} frame '
                           f'(or world), not {shorten(repr(frame_id))}')
         try:
             return planar_pose(pose)
@@ -164,8 +165,8 @@ class EntityServices:
     def _delete(self, request, response):
         self._entity(request.entity)
         self._simulation.remove(request.entity)
-        self._node.stepper.step_if_answered()
-        yield from self._node.entity_topics()
+        self._served.stepper.step_if_answered()
+        yield from self._served.refresh_topics()
 
     def _entity(self, name):
         if name not in self._simulation:
@@ -218,7 +219,7 @@ class EntityServices:
 
     def _state_of(self, name):
         state = EntityState()
-        state.header.frame_id = self._node.frames.map_frame
+        state.header.frame_id = self._served.frames.map_frame
         set_stamp(state.header.stamp, self._simulation.time_ns)
         set_pose(state.pose, *self._simulation.pose(name))
         state.twist.linear.x, state.twist.linear.y, state.twist.angular.z = (
@@ -240,7 +241,7 @@ class EntityServices:
             raise Refusal(response.INVALID_POSE, str(error)) from None
         except RequestError as error:
             raise Refusal(Result.RESULT_OPERATION_FAILED, str(error)) from None
-        self._node.show_state()
+        self._served.show_state()
 
     def _bounds(self, request, response):
         """Give a round entity's square box, or a polygonal robot's convex hull, in its frame."""
@@ -265,7 +266,7 @@ class EntityServices:
                 unknown.append(source)
         response.spawnables = []
         for path in paths:
-            spawnable = _spawnable(path, self._node.search_path)
+            spawnable = _spawnable(path, self._served.search_path)
             if spawnable is not None:
                 response.spawnables.append(spawnable)
             yield

@@ -29,6 +29,7 @@ from stdr_lite.node.parameters import (build_simulation, frames, ON_DEMAND_ABOVE
                                        search_path, STDR_STATIC_FRAME)
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
+from stdr_lite.node.served import Served
 from stdr_lite.node.stepper import Stepper
 
 DESCRIPTION = ('stdr_lite: a small STDR-equivalent simulator. For each robot, subscribes '
@@ -93,8 +94,11 @@ class StdrLite(GuardedNode):
                     0.0 if params['lockstep'] else params['real_time_factor'],
                     lambda: self.stepper.playing)
         GraphWatch(self, self._topics)
-        self._control = SimulationControl(self)
-        EntityServices(self)
+        served = Served(self.simulation, self.stepper, self.frames, self.search_path,
+                        self.entity_topics, self.restart, self.show_state, self.note_description,
+                        self.quit_soon)
+        self._control = SimulationControl(self, served)
+        EntityServices(self, served)
         if params['paused']:
             self.stepper.set_state(SimulationState.STATE_PAUSED)
         if params['lockstep']:
