@@ -1,8 +1,10 @@
 """stdr_ctl as a separate process against a running stdr_lite: answers and exit codes."""
 
+import os
 import re
+import subprocess
 
-from processes import interrupt, run, start
+from processes import executable, interrupt, run, start
 import pytest
 
 SIM_TIME = re.compile(r'sim time (\S+) s')
@@ -98,3 +100,12 @@ def test_no_simulator_answering_is_exit_code_1():
     answer = ctl('--simulator', '/nobody', '--timeout', '1', 'state')
     assert answer.returncode == 1
     assert 'no simulator answering: /nobody/get_simulation_state' in answer.stderr
+
+
+def test_fast_dds_speaks_on_stderr_leaving_stdout_to_the_answer():
+    """Our Fast DDS profile sends its own errors to stderr: stdout holds what a tool answers."""
+    environment = dict(os.environ, ROS_DOMAIN_ID='240')  # Fast DDS refuses it, with an error
+    answer = subprocess.run([executable('stdr_ctl'), 'state'], capture_output=True, text=True,
+                            timeout=60, env=environment)
+    assert answer.returncode != 0
+    assert 'RTPS' in answer.stderr and 'RTPS' not in answer.stdout
