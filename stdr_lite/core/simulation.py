@@ -1,13 +1,13 @@
 """
 The simulation: robots and obstacles by name in one world, stepped at a fixed rate. No ROS here.
 
-Everything kept per entity (pose and radius in the World, the held command, the velocity last
-applied, an obstacle's motion, the odometry, the sensors' schedule) is added, removed and
-renumbered here in one place, so those structures never fall out of step. Every request is
-checked whole before anything changes: a refusal raises and leaves the simulation as it was.
-The stdr_lite node only turns messages into calls of this class and its results into
-messages; tests and benchmarks drive it directly. The questions that change nothing (names,
-poses, readings) are its base class's, in queries.py.
+Every change is made here: entities added and removed (a row in each per-entity store at once:
+the World's poses and shapes, the held commands, the odometry, the step's Bodies, in the order
+of the Roster: roster.py), commands, steps, resets and a new map. Every request is checked
+whole before anything changes: a refusal raises and leaves the simulation as it was. What can
+be read of it without a change (poses, velocities, odometry, sensors) is its base class's, in
+readings.py. The stdr_lite node only turns messages into calls of this class and its results
+into messages; tests, benchmarks and learning loops drive it directly.
 """
 
 from contextlib import contextmanager
@@ -25,8 +25,9 @@ from stdr_lite.core.entities import (AwaitedCommands, Category, NamespaceError, 
                                      SimulationSettings)
 from stdr_lite.core.motion import motion_for, noisy_command
 from stdr_lite.core.odometry import Odometry
-from stdr_lite.core.queries import SimulationQueries
+from stdr_lite.core.readings import SimulationReadings
 from stdr_lite.core.robot_description import RobotEntry
+from stdr_lite.core.roster import Bodies, Roster
 from stdr_lite.core.terrain import survey, Terrain
 from stdr_lite.core.world import FEW_BODIES, PlacementError, World
 
@@ -34,7 +35,7 @@ from stdr_lite.core.world import FEW_BODIES, PlacementError, World
 LARGEST_ADDED_RADIUS = 0.5
 
 
-class Simulation(SimulationQueries):
+class Simulation(SimulationReadings):
     """
     Robots (unicycles or omni robots, round or polygonal) and obstacles, stepped every dt.
 
@@ -42,8 +43,8 @@ class Simulation(SimulationQueries):
 
     Each robot holds its last valid command until the next (as STDR does), or stops once the
     command is older than cmd_vel_timeout when that is positive; a moving obstacle keeps the
-    velocity it was given. For lockstep runs, answers keeps which robots have answered the
-    latest odometry with a command.
+    velocity it was given. For lockstep runs, awaited_commands keeps which robots have not yet
+    answered the latest odometry with a command.
     """
 
     def __init__(self, occupancy_map: OccupancyMap,
@@ -54,8 +55,7 @@ class Simulation(SimulationQueries):
         self.dt_ns = round(NANOSECONDS / settings.rate_hz)
         self._odometry_period_ns = (self.dt_ns if settings.odom_rate_hz <= 0.0
                                     else round(NANOSECONDS / settings.odom_rate_hz))
-        self._entities, self._indices = [], {}
-        self._robot_rows_cache = None
+        self.roster = Roster()
         self._laser_plans = {}
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
@@ -83,31 +83,21 @@ class Simulation(SimulationQueries):
         self._commands = CommandBuffer(0, self.settings.max_linear_speed,
                                        self.settings.max_angular_speed,
                                        self.settings.cmd_vel_timeout, self.settings.safety)
-        # The velocities of the last step (linear, lateral, angular): zero for a blocked body.
-        self._applied = (np.zeros(0), np.zeros(0), np.zeros(0))
-        # Whether each body's last step was refused: a wall or another body in its way.
-        self._stalled = np.zeros(0, dtype=bool)
+        self.bodies = Bodies()
         self._odometry = Odometry(self.settings.odometry_noise, self.settings.odom_seed)
-        # A moving obstacle's speed, turn rate and direction of travel (NaN: none).
-        self._motion = np.empty((0, 3))
 
     def _restart_time(self):
         self.step_count = 0
         self._noise = np.random.default_rng(self.settings.sensor_seed)
         self._odometry.reseed(self.settings.odom_seed)
-        for entity in self._entities:
+        for entity in self.roster.entities:
             entity.motion_noise = self._motion_noise(entity.name, entity.description)
         self._odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
         self.awaited_commands = AwaitedCommands()
-        for entity in self._entities:
+        for entity in self.roster.entities:
             for sensor in entity.sensors:
                 sensor.restart(0)
         self._sensor_groups = None
-
-    def default_name(self, prefix: str = 'robot') -> str:
-        """Return <prefix><K> with the smallest K not taken."""
-        return next(f'{prefix}{k}' for k in range(len(self._entities) + 1)
-                    if f'{prefix}{k}' not in self._indices)
 
     def add_robot(self, entry: RobotEntry, spawned: bool = False, namespace: str = '') -> None:
         """
@@ -121,7 +111,7 @@ class Simulation(SimulationQueries):
         namespace = namespace.strip('/') or entry.name
         if not all(is_ros_name(token) for token in namespace.split('/')):
             raise NamespaceError(f'namespace {shorten(repr(namespace))} is not a ROS namespace')
-        taken = [entity.name for entity in self._entities if entity.namespace == namespace]
+        taken = [entity.name for entity in self.roster.entities if entity.namespace == namespace]
         if taken:
             raise NamespaceError(f'namespace {namespace} is taken by {taken[0]}')
         for spec in entry.description.lasers + entry.description.sonars:
@@ -161,34 +151,30 @@ class Simulation(SimulationQueries):
         problem = ros_name_problem(name, 'a name')
         if problem is not None:
             raise RequestError(problem)
-        if name in self._indices:
+        if name in self.roster:
             raise RequestError(f'an entity named {shorten(name)} exists already')
 
     def _append(self, entity):
         with self._naming_overlaps():
             self.world.add_robot(entity.start_pose, entity.radius, entity.shape)
         self._commands.add_robot()
-        self._applied = tuple(np.append(values, 0.0) for values in self._applied)
-        self._stalled = np.append(self._stalled, False)
         self._odometry.add_robot(entity.start_pose)
-        self._motion = np.vstack([self._motion, [0.0, 0.0, np.nan]])
-        self._entities.append(entity)
+        self.bodies.add_row()
+        self.roster.append(entity)
         self._sensor_groups = None
-        self._renumber()
+        self._laser_plans = {}
 
     def remove(self, name: str) -> None:
         """Take an entity out; the entities after it move down one index."""
-        index = self._index(name)
+        index = self.roster.index(name)
         self.world.remove_robot(index)
         self._commands.remove_robot(index)
-        self._applied = tuple(np.delete(values, index) for values in self._applied)
-        self._stalled = np.delete(self._stalled, index)
         self._odometry.remove_robot(index)
-        self._motion = np.delete(self._motion, index, axis=0)
-        del self._entities[index]
+        self.bodies.remove_row(index)
+        self.roster.remove(index)
         self._sensor_groups = None
+        self._laser_plans = {}
         self.awaited_commands.answer(name)
-        self._renumber()
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
         """
@@ -196,7 +182,7 @@ class Simulation(SimulationQueries):
 
         Drifting odometry does not notice (the robot was carried): map -> odom takes the jump.
         """
-        index = self._index(name)
+        index = self.roster.index(name)
         with self._naming_overlaps():
             self.world.move_robot(index, pose)
 
@@ -209,7 +195,7 @@ class Simulation(SimulationQueries):
         once per command, as STDR does); lateral (linear.y) moves an omni robot only.
         """
         robot = self.robot(name)
-        index = self._index(name)
+        index = self.roster.index(name)
         if not all(map(math.isfinite, (linear, angular, lateral))):
             return CommandOutcome.IGNORED
         command, outcome = self._commands.limited(linear, lateral, angular)
@@ -231,15 +217,15 @@ class Simulation(SimulationQueries):
         Each command is what command() would make of it: its limits, its robot's motion noise,
         a unicycle's lateral speed dropped; a command that is not finite is ignored.
         """
-        rows = self._robot_rows()
+        rows = self.roster.robot_rows
         lateral = np.zeros(len(rows)) if lateral is None else lateral
         if len(rows) <= FEW_BODIES:
             for row, values in zip(rows.tolist(), zip(linear.tolist(), angular.tolist(),
                                                       lateral.tolist())):
-                self.command(self._entities[row].name, *values)
+                self.command(self.roster.entities[row].name, *values)
             return
         commands = np.column_stack([linear, lateral, angular]).astype(float)
-        robots = [self._entities[row] for row in rows]
+        robots = [self.roster.entities[row] for row in rows]
         noisy = np.array([robot.motion_noise is not None for robot in robots], dtype=bool)
         plain = np.isfinite(commands).all(axis=1) & ~noisy
         limited = self._commands.limited_rows(commands[plain])
@@ -261,31 +247,30 @@ class Simulation(SimulationQueries):
 
     def set_state(self, name: str, pose: tuple, velocity: tuple) -> None:
         """Teleport an entity and set its velocity (as set_velocity), both or neither."""
-        entity, index = self.entity(name), self._index(name)
+        entity, index = self.entity(name), self.roster.index(name)
         omni = entity.is_robot and entity.description.kinematic.model == 'omni'
         motion = motion_for(entity.category, pose[2], *velocity, self.settings, omni)
         self.teleport(name, pose)
         if entity.is_robot:
             self.command(name, motion.linear, motion.angular, motion.lateral)
         else:
-            self._motion[index] = (motion.linear, motion.angular,
-                                   np.nan if motion.heading is None else motion.heading)
+            self.bodies.motion[index] = (motion.linear, motion.angular,
+                                         np.nan if motion.heading is None else motion.heading)
 
     def step(self) -> None:
         """Advance every entity by dt: robots under their held commands, obstacles as set."""
         linear, lateral, angular = self._commands.current(self.sim_time)
-        sliding = ~np.isnan(self._motion[:, 2])
+        motion = self.bodies.motion
+        sliding = ~np.isnan(motion[:, 2])
         headings = None
         if sliding.any():
-            linear = np.where(sliding, self._motion[:, 0], linear)
-            angular = np.where(sliding, self._motion[:, 1], angular)
-            headings = self._motion[:, 2]
+            linear = np.where(sliding, motion[:, 0], linear)
+            angular = np.where(sliding, motion[:, 1], angular)
+            headings = motion[:, 2]
         moved = self.world.step(linear, angular, self.dt, headings, lateral)
-        self._stalled = ~moved
-        self._applied = tuple(np.where(moved, values, 0.0)
-                              for values in (linear, lateral, angular))
+        self.bodies.stepped(moved, (linear, lateral, angular))
         if self._odometry.noise.enabled:
-            self._odometry.advance(self.world.poses, *self._applied, self.dt)
+            self._odometry.advance(self.world.poses, *self.bodies.applied, self.dt)
         self.step_count += 1
 
     def reset(self, time: bool = True, state: bool = True, spawned: bool = True,
@@ -302,11 +287,12 @@ class Simulation(SimulationQueries):
         if seed is not None:
             self.settings = replace(self.settings, sensor_seed=seed, odom_seed=seed,
                                     motion_seed=seed)
-        keep = [entity for entity in self._entities if not (spawned and entity.spawned)]
+        keep = [entity for entity in self.roster.entities
+                if not (spawned and entity.spawned)]
         if state:
             self._rebuild(self._terrain, keep)
         else:
-            for entity in [entity for entity in self._entities if entity not in keep]:
+            for entity in [entity for entity in self.roster.entities if entity not in keep]:
                 self.remove(entity.name)
         if time:
             self._restart_time()
@@ -319,7 +305,8 @@ class Simulation(SimulationQueries):
         PlacementError if one of them does not fit there; nothing changes then.
         """
         terrain = world if isinstance(world, Terrain) else self.survey(world)
-        self._rebuild(terrain, [entity for entity in self._entities if not entity.spawned])
+        self._rebuild(terrain, [entity for entity in self.roster.entities
+                                if not entity.spawned])
         self._restart_time()
 
     def _rebuild(self, terrain, entities):
@@ -337,9 +324,7 @@ class Simulation(SimulationQueries):
                 raise PlacementError(f'{entity.name} cannot stand at its start pose: '
                                      f'{reason}') from None
         self._build(terrain)
-        self._entities, self._indices = [], {}
-        self._robot_rows_cache = None
-        self._laser_plans = {}
+        self.roster = Roster()
         for entity in entities:
             self._append(entity)
 
@@ -355,11 +340,6 @@ class Simulation(SimulationQueries):
         except PlacementError as error:
             if error.overlapped is None:
                 raise
-            other = self._entities[error.overlapped].name
+            other = self.roster.entities[error.overlapped].name
             raise PlacementError(str(error).replace(f'robot {error.overlapped}', other),
                                  overlapped=error.overlapped) from None
-
-    def _renumber(self) -> None:
-        self._indices = {entity.name: index for index, entity in enumerate(self._entities)}
-        self._robot_rows_cache = None
-        self._laser_plans = {}
