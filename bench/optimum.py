@@ -23,6 +23,7 @@ import sys
 from bench.courses import drive, Loop, lower_bound, random_course, time_limit
 import numpy as np
 from ompl import base as ompl_base
+from simple_robot_control.pose import wrap_angle
 from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.planner import TurnPlan
 
@@ -80,7 +81,7 @@ def turn_times(starts: np.ndarray, ends: np.ndarray, config: ControllerConfig) -
     for row, start in enumerate(map(tuple, starts)):
         for column, end in enumerate(map(tuple, ends)):
             offset = (end[0] - start[0], end[1] - start[1])
-            turn = math.remainder(end[2] - start[2], math.tau)
+            turn = wrap_angle(end[2] - start[2])
             for angle in (turn, turn - math.copysign(math.tau, turn)):
                 plan = TurnPlan(start, angle, offset, limits)
                 if plan.feasible:
@@ -118,7 +119,7 @@ def inset(pose, waypoint):
     step = min(REPLAY_INSET[0], distance)
     if distance > 0.0:
         x, y = x + step * dx / distance, y + step * dy / distance
-    turn = math.remainder(waypoint.theta - theta, 2 * math.pi)
+    turn = wrap_angle(waypoint.theta - theta)
     return x, y, theta + math.copysign(min(REPLAY_INSET[1], abs(turn)), turn)
 
 

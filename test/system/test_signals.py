@@ -114,13 +114,30 @@ WAITING_ARGUMENTS = {
     'plot_run': ['missing.mcap'], 'grade_lab': ['--courses', 'WAYPOINTS', '--', 'true']}
 
 
+OURS = ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
+        'lab_grader')
+
+
 def ended_before_its_first_line(code, signal_number, output):
     """Whether the signal ended Python's own start, as it ends any Python program's."""
-    ours = ('simple_robot_control', 'stdr_lite', 'waypoint_controller', 'lab_grader')
+    ours = OURS
     python_said = 'KeyboardInterrupt' in output or 'Fatal Python error' in output
     return (code == -signal_number and not output) or (
         code == 1 and signal_number == signal.SIGINT and python_said
         and not any(f'/{package}/' in output for package in ours))
+
+
+def swallowed_by_the_interpreter(signal_number, output):
+    """
+    Whether Python's own start dropped the Ctrl-C, before any line of ours could hold it.
+
+    Its default handler raised KeyboardInterrupt inside one of its import machinery's callbacks,
+    where an exception is printed and dropped ("Exception ignored in"); the program then starts
+    as if no signal had come. The one case out of our reach (doc/robustness.md).
+    """
+    return (signal_number == signal.SIGINT and output.startswith('Exception ignored in')
+            and 'KeyboardInterrupt' in output and not any(f'/{package}/' in output
+                                                          for package in OURS))
 
 
 @pytest.mark.parametrize('name', WAITING_ARGUMENTS)
@@ -148,6 +165,10 @@ def test_a_signal_from_the_first_instant_ends_the_program(tmp_path, name):
             except subprocess.TimeoutExpired:
                 process.kill()
                 output, _ = process.communicate()
+                if swallowed_by_the_interpreter(signal_number, output):
+                    outcomes.append(f'{signal_number.name} at {moment * 1000:.0f} ms: '
+                                    "swallowed by Python's own start")
+                    continue
                 pytest.fail(f'{signal_number.name} at {moment * 1000:.0f} ms: still running '
                             f'10 s later: {output[-500:]}')
             took = time.monotonic() - sent
