@@ -13,8 +13,8 @@ export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 # Peers found within about half a second rather than up to 3 s (see the file).
 export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discovery.xml)
 
-.PHONY: demo lab-session swarm grade test test-unit test-node test-system check-stdr bench install \
-	clean clean-cache
+.PHONY: demo lab-session swarm grade test test-quick test-unit test-node test-system check-stdr \
+	bench install clean clean-cache
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -41,6 +41,10 @@ bench: install $(VENV)/.test-dependencies
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest
+
+# A developer's minute: the unit and node tiers on two workers (make test stays the whole suite).
+test-quick: install $(VENV)/.test-dependencies
+	$(PYTHON) -m pytest test/unit test/node
 
 # One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
 test-unit test-node test-system: install $(VENV)/.test-dependencies

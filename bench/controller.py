@@ -148,7 +148,11 @@ def main(argv=None):
     parser.add_argument('--rates', type=float, nargs='*', default=[5.0, 10.0, 20.0, 50.0],
                         help='control rates [Hz] to run against a 100 Hz loop')
     parser.add_argument('--no-baseline', action='store_true')
+    parser.add_argument('--smoke', action='store_true',
+                        help='tiny sizes, seconds: that it runs and prints its figures')
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.courses, args.dt, args.rates = 3, [0.05], [10.0]
     config = ControllerConfig()
     rng = np.random.default_rng(args.seed)
     courses = [random_course(rng) for _ in range(args.courses)]

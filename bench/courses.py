@@ -120,7 +120,8 @@ def drive(follower, start, loop: Loop, time_limit):
         if odometry is None:
             seen = pose
         else:
-            odometry.advance(np.array([pose]), np.array([linear]), np.array([angular]), loop.dt)
+            odometry.advance(np.array([pose]), np.array([linear]), np.zeros(1),
+                             np.array([angular]), loop.dt)
             seen = odometry.reading(0).pose
         elapsed += loop.dt
         step_index += 1

@@ -11,6 +11,7 @@ robot and laser, headless. Figures are the median of REPEATS runs of STEPS steps
 the ratio is taken from those medians, measured one right after the other.
 """
 
+import argparse
 import json
 import os
 from pathlib import Path
@@ -83,8 +84,8 @@ def vector_rate(env, rng, steps):
     env.reset(seed=0)
     start = time.perf_counter()
     for _ in range(steps):
-        env.step(rng.uniform([-0.5, -1.0], [0.5, 1.0], (ROBOTS, 2)).astype(np.float32))
-    return ROBOTS * steps / (time.perf_counter() - start)
+        env.step(rng.uniform([-0.5, -1.0], [0.5, 1.0], (env.num_envs, 2)).astype(np.float32))
+    return env.num_envs * steps / (time.perf_counter() - start)
 
 
 def irsim_rates():
@@ -106,28 +107,39 @@ def irsim_rates():
         return None
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog='bench.learning', description=__doc__.split('\n')[1])
+    parser.add_argument('--smoke', action='store_true',
+                        help='tiny sizes, seconds, no IR-SIM: that it runs and prints its figures')
+    args = parser.parse_args(argv)
+    steps, vector_steps, robots, repeats = (50, 5, 10, 1) if args.smoke else (
+        STEPS, VECTOR_STEPS, ROBOTS, REPEATS)
     rng = np.random.default_rng(0)
     single = gym.make('waypoint_lab/Waypoints-v0')
-    single_rate(single, rng, 200)
-    singles = [single_rate(single, rng, STEPS) for _ in range(REPEATS)]
-    vector = gym.make_vec('waypoint_lab/Waypoints-v0', num_envs=ROBOTS,
+    single_rate(single, rng, 20 if args.smoke else 200)
+    singles = [single_rate(single, rng, steps) for _ in range(repeats)]
+    vector = gym.make_vec('waypoint_lab/Waypoints-v0', num_envs=robots,
                           vectorization_mode='vector_entry_point')
-    vector_rate(vector, rng, 20)
-    vectors = [vector_rate(vector, rng, VECTOR_STEPS) for _ in range(REPEATS)]
+    vector_rate(vector, rng, 2 if args.smoke else 20)
+    vectors = [vector_rate(vector, rng, vector_steps) for _ in range(repeats)]
     print(f'waypoint_lab/Waypoints-v0, one robot, 64-ray laser: median '
           f'{statistics.median(singles):,.0f} steps/s (runs: '
-          f'{", ".join(f"{rate:,.0f}" for rate in singles)}; target 5,000)')
-    print(f'vector of {ROBOTS} robots in one world: median {statistics.median(vectors):,.0f} '
-          f'robot-steps/s (runs: {", ".join(f"{rate:,.0f}" for rate in vectors)}; target '
-          '50,000)')
+          f'{", ".join(f"{rate:,.0f}" for rate in singles)})')
+    print(f'vector of {robots} robots in one world: median {statistics.median(vectors):,.0f} '
+          f'robot-steps/s (runs: {", ".join(f"{rate:,.0f}" for rate in vectors)}): '
+          f'{statistics.median(vectors) / statistics.median(singles):.1f}x the single '
+          "environment's steps/s")
+    if args.smoke:
+        print('IR-SIM not measured: smoke run')
+        return 0
     irsim = irsim_rates()
     if irsim:
         print(f'IR-SIM, same room, robot and laser: median {statistics.median(irsim):,.1f} '
               f'steps/s (runs: {", ".join(f"{rate:,.1f}" for rate in irsim)})')
         print(f'ratio, stdr_lite single to IR-SIM: '
-              f'{statistics.median(singles) / statistics.median(irsim):,.0f}x')
+              f'{statistics.median(singles) / statistics.median(irsim):,.1f}x')
+    return 0
 
 
 if __name__ == '__main__':
-    main()
+    sys.exit(main())

@@ -135,7 +135,11 @@ def main(argv=None):
     parser.add_argument('--courses', type=int, default=200)
     parser.add_argument('--seed', type=int, default=2026)
     parser.add_argument('--dt', type=float, default=0.05)
+    parser.add_argument('--smoke', action='store_true',
+                        help='tiny sizes, seconds: that it runs and prints its figures')
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.courses = 3
     config = ControllerConfig()
     reeds_shepp = ReedsSheppTimes(config)
     rng = np.random.default_rng(args.seed)

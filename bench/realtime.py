@@ -22,7 +22,7 @@ import random
 import signal
 import subprocess
 import sys
-from tempfile import TemporaryDirectory
+from tempfile import mkdtemp, TemporaryDirectory
 import time
 
 from bench.round_trip import round_trip_rtf
@@ -232,24 +232,26 @@ def sensor_load(robot_count=10, batches=5, repeats=20, seed=2):
     return loads
 
 
-def lockstep_against_ceiling(course, separate_process, repeat):
+def lockstep_against_ceiling(course, separate_process, repeat, ceiling_seconds):
     """Run the lab tour and the ceiling in turn; return the runs and each run's ratio."""
     tours, ceilings = [], []
     for _ in range(repeat):
         with ros_session() as (context, executor):
-            ceilings.append(round_trip_rtf(context, executor, separate_process))
+            ceilings.append(round_trip_rtf(context, executor, separate_process,
+                                           seconds=ceiling_seconds))
         tours.append(drive_course(course, separate_process))
     ratios = [sim / wall / ceiling for (sim, wall, _), ceiling in zip(tours, ceilings)]
     return tours, ceilings, ratios
 
 
-def print_lockstep(course, repeat):
+def print_lockstep(course, repeat, ceiling_seconds):
     print(f'course {course}, stdr_lite at rate_hz 50 in lockstep, real_time_factor 0; '
           f'median of {repeat} runs, each beside a run of the rclpy ceiling (bench.round_trip)')
     print(f'{"configuration":14} {"RTF":>7} {"ceiling":>8} {"ratio":>6} {"ratio range":>12} '
           f'{"latency med":>12} {"latency p99":>12}')
     for label, separate in (('one process', False), ('two processes', True)):
-        tours, ceilings, ratios = lockstep_against_ceiling(course, separate, repeat)
+        tours, ceilings, ratios = lockstep_against_ceiling(course, separate, repeat,
+                                                           ceiling_seconds)
         middle = sorted(range(repeat), key=lambda run: tours[run][0] / tours[run][1])[repeat // 2]
         sim, wall, latencies = tours[middle]
         median, p99 = np.percentile(latencies, (50, 99)) * 1e3
@@ -269,16 +271,25 @@ def main(argv=None):
                         help='wall seconds of /clock per whole-node run')
     parser.add_argument('--repeat', type=int, default=5,
                         help='runs per figure; the median is shown')
+    parser.add_argument('--smoke', action='store_true',
+                        help='tiny sizes, seconds: that it runs and prints its figures')
     args = parser.parse_args(argv)
+    ceiling_seconds = 3.0
+    if args.smoke:
+        args.robots, args.crowd, args.node_seconds, args.repeat = [1, 10], 10, 1.0, 1
+        ceiling_seconds = 0.5
+        args.course = os.path.join(mkdtemp(), 'one_waypoint.txt')
+        Path(args.course).write_text('2 2 0\n')
     # The bare World first, in a process that has run nothing else yet: measured after the
     # lockstep runs, it came out a third slower.
     print(f'the bare World, walls and robot contact included; median of {args.repeat} runs')
-    print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9}')
+    print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9} {"real time at 50 Hz":>19}')
     for count in args.robots:
         rate = float(np.median([robot_steps_per_second(count, steps=max(200, 20000 // count))
                                 for _ in range(args.repeat)]))
-        print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f}', flush=True)
-    print_lockstep(args.course, args.repeat)
+        print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f} {rate / count / 50:18,.1f}x',
+              flush=True)
+    print_lockstep(args.course, args.repeat, ceiling_seconds)
     factors = [node_real_time_factor(args.crowd, args.node_seconds) for _ in range(args.repeat)]
     print(f'the whole stdr_lite node, {args.crowd} lab robots, free-running unpaced, odometry '
           f'at 10 Hz to a subscriber: {np.median(factors):.2f}x real time by /clock over '

@@ -42,6 +42,8 @@ from stdr_lite.core.robot_description import MAX_SENSORS
 PERIOD = 0.02
 # The longest a request may hold /clock back: five step periods.
 TARGET = 0.1
+# The side of the world loaded: (a smoke run's, a full run's).
+WORLD_CELLS = (256, 4096)
 SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 SONAR = ('    - {{frame_id: sonar_{}, cone_angle: 0.5, min_range: 0.1, max_range: 3, '
          'frequency: 10}}\n')
@@ -88,54 +90,61 @@ class Client(Node):
 
     def gaps(self, since, until):
         """
-        Return the gaps between /clock messages from since to until, in one world.
+        Return the gaps between /clock messages from the last one before since to until.
 
         A new world restarts the clock at 0 and stands STOPPED: what comes after is not the
         simulation held back, and is left out.
         """
         times, last = [], -1
+        before = max((moment for moment, _ in self.arrivals if moment < since), default=since)
         for moment, stamp in self.arrivals:
-            if since <= moment <= until:
+            if before <= moment <= until:
                 if stamp < last:
                     break
                 times.append(moment)
                 last = stamp
-        return np.diff(times) if len(times) > 2 else np.array([math.nan])
+        return np.diff(times) if len(times) > 1 else np.array([math.nan])
 
 
-def bursts(folder):
-    """Return (label, service type, service name, requests) of every burst, in order."""
+def bursts(folder, size=1.0):
+    """
+    Return (label, service type, service name, requests) of every burst, in order.
+
+    size scales the bursts' counts (a smoke run takes a hundredth).
+    """
+    spawns, filters, points, files = (max(1, round(count * size))
+                                      for count in (50, 50, 100_000, 200))
     description = largest_description()
-    for index in range(200):
+    for index in range(files):
         (folder / 'spawnables' / f'robot{index:03d}.yaml').write_text(description)
     hull = Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
         pose(10 + 5 * math.cos(k / 160), 7 + 5 * math.sin(k / 160)).pose.position
         for k in range(1000)])
     return [
-        ('50 spawns of 32 sonars', SpawnEntity, 'spawn_entity', [SpawnEntity.Request(
+        (f'{spawns} spawns of 32 sonars', SpawnEntity, 'spawn_entity', [SpawnEntity.Request(
             name=f'bot{k}', resource_string=description, initial_pose=pose(
-                3 + k % 15, 4 + 0.5 * (k // 15))) for k in range(50)]),
-        ('50 hull filters', GetEntities, 'get_entities', [GetEntities.Request(
-            filters=EntityFilters(filter='^bot', bounds=hull)) for _ in range(50)]),
-        ('a 100,000-point hull', GetEntities, 'get_entities', [GetEntities.Request(
+                3 + k % 15, 4 + 0.5 * (k // 15))) for k in range(spawns)]),
+        (f'{filters} hull filters', GetEntities, 'get_entities', [GetEntities.Request(
+            filters=EntityFilters(filter='^bot', bounds=hull)) for _ in range(filters)]),
+        (f'a {points:,}-point hull', GetEntities, 'get_entities', [GetEntities.Request(
             filters=EntityFilters(bounds=Bounds(type=Bounds.TYPE_CONVEX_HULL, points=[
-                pose(k % 300, k // 300).pose.position for k in range(100_000)])))]),
-        ('200 files of spawnables', GetSpawnables, 'get_spawnables', [
+                pose(k % 300, k // 300).pose.position for k in range(points)])))]),
+        (f'{files} files of spawnables', GetSpawnables, 'get_spawnables', [
             GetSpawnables.Request(sources=[str(folder / 'spawnables')])]),
-        ('a 4096x4096 world', LoadWorld, 'load_world', [LoadWorld.Request(
-            uri=str(folder / 'big.yaml'))]),
+        (f'a {WORLD_CELLS[size == 1.0]}x{WORLD_CELLS[size == 1.0]} world', LoadWorld,
+         'load_world', [LoadWorld.Request(uri=str(folder / 'big.yaml'))]),
     ]
 
 
-def write_big_world(folder):
-    pixels = np.full((4096, 4096), 254, dtype=np.uint8)
+def write_big_world(folder, cells=4096):
+    pixels = np.full((cells, cells), 254, dtype=np.uint8)
     pixels[::64, :] = pixels[:, ::64] = 0
     pixels[:200, :200] = 254
     Image.fromarray(pixels).save(folder / 'big.pgm')
     (folder / 'big.yaml').write_text('image: big.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n')
 
 
-def measure_once(folder):
+def measure_once(folder, size=1.0, quiet=2.0):
     """Run the simulator and every burst once; return {label: (longest, p99, seconds)}."""
     simulator = subprocess.Popen(
         [os.path.join(os.path.dirname(sys.executable), 'stdr_lite'), '--ros-args',
@@ -147,10 +156,10 @@ def measure_once(folder):
             executor.add_node(client)
             spin_until(executor, lambda: len(client.arrivals) > 50, timeout=60.0)
             quiet_from = time.time()
-            spin_until(executor, lambda: time.time() > quiet_from + 2.0)
+            spin_until(executor, lambda: time.time() > quiet_from + quiet)
             gaps = client.gaps(quiet_from, time.time())
-            figures['no requests'] = (gaps.max(), np.percentile(gaps, 99), 2.0)
-            for label, kind, service, requests in bursts(folder):
+            figures['no requests'] = (gaps.max(), np.percentile(gaps, 99), quiet)
+            for label, kind, service, requests in bursts(folder, size):
                 started = time.time()
                 seconds = client.call_all(executor, kind, service, requests)
                 gaps = client.gaps(started, time.time())
@@ -164,13 +173,19 @@ def measure_once(folder):
 def main(argv=None):
     parser = argparse.ArgumentParser(prog='bench.requests', description=__doc__.split('\n')[1])
     parser.add_argument('--repeat', type=int, default=3)
+    parser.add_argument('--smoke', action='store_true',
+                        help='tiny sizes, seconds: that it runs and prints its figures')
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.repeat = 1
     keep_dds_on_loopback()
     with TemporaryDirectory() as directory:
         folder = Path(directory)
         (folder / 'spawnables').mkdir()
-        write_big_world(folder)
-        runs = [measure_once(folder) for _ in range(args.repeat)]
+        size = 0.01 if args.smoke else 1.0
+        write_big_world(folder, WORLD_CELLS[size == 1.0])
+        runs = [measure_once(folder, size, 0.5 if args.smoke else 2.0)
+                for _ in range(args.repeat)]
     print(f'gaps between /clock messages of stdr_lite at 50 Hz (a step is {PERIOD * 1e3:.0f} ms) '
           f'while a burst of requests is served; medians of {args.repeat} runs')
     print(f'{"burst":26} {"longest gap":>12} {"p99 gap":>9} {"served in":>10}  '

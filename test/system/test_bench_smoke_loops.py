@@ -1,0 +1,23 @@
+"""The benchmarks of the control law, the viewer and learning run and print their figures."""
+
+from bench_smoke import assert_smoke_run_prints
+
+
+def test_the_controller_bench_prints_its_ratios_to_the_optimum():
+    assert_smoke_run_prints(
+        'controller', r'^waypoint_controller +dt 0\.05 +\d+\.\d%( +\d+\.\d{3}){4}',
+        r'^rotate-drive-rotate +dt 0\.05 ', r'^planning per waypoint: median \d+\.\d\d ms')
+
+
+def test_the_optimum_bench_prints_its_ratios_to_the_lower_bound():
+    assert_smoke_run_prints('optimum', r'^chained optimum +median \d\.\d{3} +p90 \d\.\d{3}',
+                            r'^replay finished \d+\.\d% of the courses')
+
+
+def test_the_viewer_bench_prints_its_rate_against_the_viewers():
+    assert_smoke_run_prints('viewer', r"frames per second: \d+\.\dx the viewer's own rate")
+
+
+def test_the_learning_bench_prints_the_vector_against_the_single_env():
+    assert_smoke_run_prints('learning', r'^waypoint_lab/Waypoints-v0, one robot, 64-ray laser: ',
+                            r"robot-steps/s .*: \d+\.\dx the single environment's steps/s")

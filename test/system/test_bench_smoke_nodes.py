@@ -1,0 +1,25 @@
+"""The benchmarks of the running nodes (loop, requests, recorder) run and print their figures."""
+
+from bench_smoke import assert_smoke_run_prints
+
+FIGURE = r'\d+\.\d+x'
+
+
+def test_the_realtime_bench_prints_the_loop_against_its_ceiling():
+    assert_smoke_run_prints(
+        'realtime', r'^ +10 +[\d,]+ +[\d,]+ +[\d,]+\.\dx$',
+        rf'^one process +{FIGURE} +{FIGURE} +\d+\.\d\d ', rf'^two processes +{FIGURE} +{FIGURE} ',
+        rf'the whole stdr_lite node, 10 lab robots, .*: {FIGURE} real time',
+        r'^sensors of 10 lab robots .*: \d+\.\d% of one core')
+
+
+def test_the_requests_bench_prints_each_burst_against_its_target():
+    assert_smoke_run_prints(
+        'requests', r'^no requests +\d+\.\d ms',
+        r'^a 1,000-point hull +\d+\.\d ms +\d+\.\d ms +\d+\.\d\d s +(met|\d+\.\d\dx over)$',
+        r'^a 256x256 world +\d+\.\d ms')
+
+
+def test_the_recorder_bench_prints_what_it_kept_of_what_was_sent():
+    assert_smoke_run_prints('recorder', r'^record_run, 5 robots at 10 Hz: 5 odometry topics, .*: '
+                            r'\d\.\d{3} of what was sent recorded$')
