@@ -90,15 +90,20 @@ class Client(Node):
 
     def gaps(self, since, until):
         """
-        Return the gaps between /clock messages from the last one before since to until.
+        Return the gaps between /clock messages around since to until, one step either side.
+
+        From the last one before since to the first one after until, so that a burst shorter
+        than a step still shows the gap around it.
 
         A new world restarts the clock at 0 and stands STOPPED: what comes after is not the
         simulation held back, and is left out.
         """
         times, last = [], -1
-        before = max((moment for moment, _ in self.arrivals if moment < since), default=since)
+        moments = [moment for moment, _ in self.arrivals]
+        before = max((moment for moment in moments if moment < since), default=since)
+        after = min((moment for moment in moments if moment > until), default=until)
         for moment, stamp in self.arrivals:
-            if before <= moment <= until:
+            if before <= moment <= after:
                 if stamp < last:
                     break
                 times.append(moment)
@@ -162,7 +167,12 @@ def measure_once(folder, size=1.0, quiet=2.0):
             for label, kind, service, requests in bursts(folder, size):
                 started = time.time()
                 seconds = client.call_all(executor, kind, service, requests)
-                gaps = client.gaps(started, time.time())
+                ended = time.time()
+                # The next /clock, unless a new world stands stopped (none comes then).
+                deadline = time.monotonic() + 5 * PERIOD
+                while client.arrivals[-1][0] <= ended and time.monotonic() < deadline:
+                    executor.spin_once(timeout_sec=PERIOD)
+                gaps = client.gaps(started, ended)
                 figures[label] = (gaps.max(), np.percentile(gaps, 99), seconds)
     finally:
         simulator.send_signal(signal.SIGINT)
@@ -193,6 +203,10 @@ def main(argv=None):
     for label in runs[0]:
         longest, p99, seconds = (np.median([run[label][part] for run in runs])
                                  for part in range(3))
+        if math.isnan(longest):
+            # Served before the next /clock, in a new world that stands stopped: no gap to see.
+            print(f'{label:26} {"-":>9} ms {"-":>6} ms {seconds:8.2f} s  met (within a step)')
+            continue
         verdict = 'met' if longest <= TARGET else f'{longest / TARGET:.2f}x over'
         print(f'{label:26} {longest * 1e3:9.1f} ms {p99 * 1e3:6.1f} ms {seconds:8.2f} s  '
               f'{verdict}')

@@ -15,6 +15,7 @@ from action_msgs.srv import CancelGoal
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import qos_profile_action_status_default
 from rclpy.task import Future
+from simple_robot_control.command_line import keep_stdout_for_answers
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import run
@@ -184,6 +185,7 @@ class StdrCtl(GuardedNode):
 
 
 def main(argv=None):
+    keep_stdout_for_answers()
     sys.exit(run('stdr_ctl', build_arguments(), StdrCtl, argv))
 
 

@@ -102,10 +102,14 @@ def test_no_simulator_answering_is_exit_code_1():
     assert 'no simulator answering: /nobody/get_simulation_state' in answer.stderr
 
 
-def test_fast_dds_speaks_on_stderr_leaving_stdout_to_the_answer():
-    """Our Fast DDS profile sends its own errors to stderr: stdout holds what a tool answers."""
-    environment = dict(os.environ, ROS_DOMAIN_ID='240')  # Fast DDS refuses it, with an error
+@pytest.mark.parametrize('profile', ['ours', 'none'])
+def test_fast_dds_speaks_on_stderr_leaving_stdout_to_the_answer(profile):
+    """Fast DDS's errors (logged, or printed on std::cout) go to stderr, with a profile or none."""
+    environment = dict(os.environ, ROS_DOMAIN_ID='240')  # Fast DDS refuses it, with errors
+    if profile == 'none':
+        environment.pop('FASTRTPS_DEFAULT_PROFILES_FILE')
     answer = subprocess.run([executable('stdr_ctl'), 'state'], capture_output=True, text=True,
                             timeout=60, env=environment)
     assert answer.returncode != 0
-    assert 'RTPS' in answer.stderr and 'RTPS' not in answer.stdout
+    assert 'RTPS' in answer.stderr and 'port number is too high' in answer.stderr
+    assert 'RTPS' not in answer.stdout and 'port number' not in answer.stdout
