@@ -67,14 +67,15 @@ def run(prog, parser, make_node, argv=None):
         print(f'{prog}: error: bad --ros-args: {rcl_problem(error)}', file=sys.stderr)
         return EXIT_BAD_INPUT
     ending = _Ending()
-    # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with SIGINT
-    # then SIGTERM, so the handlers are ours whatever the parent set up.
-    for signal_number in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signal_number, ending.on_signal)
-    _watch_for_signals()
     node = executor = None
     code, leave_endpoints = EXIT_OK, False
     try:
+        # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with
+        # SIGINT then SIGTERM, so the handlers are ours whatever the parent set up. A signal
+        # from here on abandons the start (_Interrupted), even while the watch is being set up.
+        for signal_number in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(signal_number, ending.on_signal)
+        _watch_for_signals()
         try:
             rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
         except rclpy_implementation.RCLError as error:

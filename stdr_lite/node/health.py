@@ -7,7 +7,7 @@ Warnings a running simulator owes its user: falling behind, and commands that wo
 import time
 
 from rclpy.clock import Clock, ClockType
-from simple_robot_control.graph import endpoint_node
+from simple_robot_control.graph import endpoint_node, UNNAMED
 
 CHECK_PERIOD = 1.0
 # A free-running simulator achieving less than this share of its real_time_factor is behind.
@@ -16,6 +16,9 @@ WARN_EVERY = 10.0
 # cmd_vel topics whose publishers are counted per check, so a large swarm costs little: a
 # lookup costs more the larger the graph (0.5 to 1.6 ms with 1000 robots' topics).
 TOPICS_PER_CHECK = 10
+# A publisher's node is named once discovery has its name, within a second or two however busy
+# the machine: the warning waits for the names this long, then names what it can.
+NAMES_PATIENCE = 5.0
 
 
 class HealthWatch:
@@ -30,6 +33,8 @@ class HealthWatch:
         # The pace is measured from the first check on: before it the node was still starting.
         self._since = None
         self._next_topic = 0
+        # Since when each cmd_vel topic has had several publishers, one of them not yet named.
+        self._unnamed_since = {}
         node.create_timer(CHECK_PERIOD, self.check,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
 
@@ -65,6 +70,12 @@ class HealthWatch:
             topics = self._topics[name]
             infos = self._node.get_publishers_info_by_topic(topics.cmd_vel_topic)
             publishers = sorted(map(endpoint_node, infos))
+            if len(publishers) > 1 and UNNAMED in publishers:
+                first = self._unnamed_since.setdefault(topics.cmd_vel_topic, time.monotonic())
+                if time.monotonic() - first < NAMES_PATIENCE:
+                    continue
+            else:
+                self._unnamed_since.pop(topics.cmd_vel_topic, None)
             if len(publishers) > 1:
                 self._node.get_logger().warn(
                     f'{topics.cmd_vel_topic} has {len(publishers)} publishers '
