@@ -1,5 +1,6 @@
 """Runs across processes: nothing is lost, nothing drives blind, nothing goes unnoticed."""
 
+import re
 import signal
 import time
 
@@ -71,16 +72,21 @@ def test_a_restarted_simulator_stops_the_controller(tmp_path, simulator):
     controller = start_logged('waypoint_controller', str(course), log=log)
     wait_for_text(log, 'STARTED', controller)
     time.sleep(2.0)
-    assert stop(process, signal.SIGINT)[0] == 0
-    restarted = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=10.0',
-                             log=tmp_path / 'restarted.log')
+    # The new simulator is up, paused, before the old one goes: however slow its start, the
+    # robot's odometry keeps a publisher, and the clock goes back when it plays.
+    restarted = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=10.0', '-p',
+                             'paused:=true', log=tmp_path / 'restarted.log')
     try:
+        wait_for_text(tmp_path / 'restarted.log', 'real_time_factor', restarted)
+        assert stop(process, signal.SIGINT)[0] == 0
+        assert run('stdr_ctl', 'play').returncode == 0
         assert controller.wait(timeout=30) == 1
     finally:
         stop(restarted, signal.SIGINT)
     output = log.read_text()
     assert 'went back' in output and 'the simulator restarted; stopping the robot' in output
-    assert 'ABORTED 1 1.000 2.000 0.00' in output
+    # Reported at the new simulator's robot, where it starts (a step of the held command at most).
+    assert re.search(r'ABORTED [12] 1\.0[0-4]\d 2\.000 -?0\.00', output), output
 
 
 def test_the_controller_names_the_remapped_topic_while_odometry_is_absent(tmp_path):
