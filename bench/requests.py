@@ -42,8 +42,8 @@ from stdr_lite.core.robot_description import MAX_SENSORS
 PERIOD = 0.02
 # The longest a request may hold /clock back: five step periods.
 TARGET = 0.1
-# The side of the world loaded: (a smoke run's, a full run's).
-WORLD_CELLS = (256, 4096)
+# The side of the world loaded, in cells, and a smoke run's.
+WORLD_CELLS, SMOKE_WORLD_CELLS = 4096, 256
 SERVICE_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 SONAR = ('    - {{frame_id: sonar_{}, cone_angle: 0.5, min_range: 0.1, max_range: 3, '
          'frequency: 10}}\n')
@@ -111,7 +111,7 @@ class Client(Node):
         return np.diff(times) if len(times) > 1 else np.array([math.nan])
 
 
-def bursts(folder, size=1.0):
+def bursts(folder, size=1.0, cells=WORLD_CELLS):
     """
     Return (label, service type, service name, requests) of every burst, in order.
 
@@ -136,12 +136,12 @@ def bursts(folder, size=1.0):
                 pose(k % 300, k // 300).pose.position for k in range(points)])))]),
         (f'{files} files of spawnables', GetSpawnables, 'get_spawnables', [
             GetSpawnables.Request(sources=[str(folder / 'spawnables')])]),
-        (f'a {WORLD_CELLS[size == 1.0]}x{WORLD_CELLS[size == 1.0]} world', LoadWorld,
+        (f'a {cells}x{cells} world', LoadWorld,
          'load_world', [LoadWorld.Request(uri=str(folder / 'big.yaml'))]),
     ]
 
 
-def write_big_world(folder, cells=4096):
+def write_big_world(folder, cells=WORLD_CELLS):
     pixels = np.full((cells, cells), 254, dtype=np.uint8)
     pixels[::64, :] = pixels[:, ::64] = 0
     pixels[:200, :200] = 254
@@ -149,7 +149,7 @@ def write_big_world(folder, cells=4096):
     (folder / 'big.yaml').write_text('image: big.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n')
 
 
-def measure_once(folder, size=1.0, quiet=2.0):
+def measure_once(folder, size=1.0, quiet=2.0, cells=WORLD_CELLS):
     """Run the simulator and every burst once; return {label: (longest, p99, seconds)}."""
     simulator = subprocess.Popen(
         [os.path.join(os.path.dirname(sys.executable), 'stdr_lite'), '--ros-args',
@@ -164,7 +164,7 @@ def measure_once(folder, size=1.0, quiet=2.0):
             spin_until(executor, lambda: time.time() > quiet_from + quiet)
             gaps = client.gaps(quiet_from, time.time())
             figures['no requests'] = (gaps.max(), np.percentile(gaps, 99), quiet)
-            for label, kind, service, requests in bursts(folder, size):
+            for label, kind, service, requests in bursts(folder, size, cells):
                 started = time.time()
                 seconds = client.call_all(executor, kind, service, requests)
                 ended = time.time()
@@ -192,9 +192,9 @@ def main(argv=None):
     with TemporaryDirectory() as directory:
         folder = Path(directory)
         (folder / 'spawnables').mkdir()
-        size = 0.01 if args.smoke else 1.0
-        write_big_world(folder, WORLD_CELLS[size == 1.0])
-        runs = [measure_once(folder, size, 0.5 if args.smoke else 2.0)
+        size, cells = (0.01, SMOKE_WORLD_CELLS) if args.smoke else (1.0, WORLD_CELLS)
+        write_big_world(folder, cells)
+        runs = [measure_once(folder, size, 0.5 if args.smoke else 2.0, cells)
                 for _ in range(args.repeat)]
     print(f'gaps between /clock messages of stdr_lite at 50 Hz (a step is {PERIOD * 1e3:.0f} ms) '
           f'while a burst of requests is served; medians of {args.repeat} runs')

@@ -16,7 +16,7 @@ No ROS here.
 """
 
 from bisect import bisect_right
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 import math
 import os
 from pathlib import Path
@@ -210,10 +210,9 @@ class _Reading:
         reports = [Report(text, parse_status(text), self._date(sent))
                    for sent, text in sorted(self.statuses)]
         times = np.asarray(self.times, dtype=float)
-        run = Run(course, times, np.asarray(self.poses, dtype=float).reshape(-1, 3), reports,
-                  len(stalled), min(stalled, default=None), cut_short=cut_short,
-                  path_topic=self.path_topic)
-        return replace(run, step=float(np.median(np.diff(times)))) if len(times) > 1 else run
+        step = float(np.median(np.diff(times))) if len(times) > 1 else Run.step
+        return Run(course, times, np.asarray(self.poses, dtype=float).reshape(-1, 3), reports,
+                   len(stalled), min(stalled, default=None), step, cut_short, self.path_topic)
 
 
 def _on_the_map(pose):
