@@ -123,6 +123,58 @@ def drive_course(course, separate_process):
                 controller_process.wait(timeout=30)
 
 
+def demo_phases(course, real_time_factor):
+    """
+    Wall seconds of waypoint_controller's start, loop and end, arranged as `make demo` runs it.
+
+    stdr_lite is a process of its own in lockstep at real_time_factor, and a robot_status
+    reader (here, as course_monitor in the demo) is already there; once the simulator's
+    odometry is in the graph, the controller starts as a process. Start is from its launch to
+    the STARTED it logs, loop from STARTED to FINISHED, end from FINISHED to its exit.
+    """
+    executables = os.path.dirname(sys.executable)
+    simulator = subprocess.Popen([os.path.join(executables, 'stdr_lite'), '--ros-args',
+                                  '-p', 'lockstep:=true',
+                                  '-p', f'real_time_factor:={real_time_factor!r}',
+                                  '--log-level', 'warn'])
+    try:
+        with ros_session() as (context, executor):
+            reader = StatusWatch(context)
+            executor.add_node(reader)
+            spin_until(executor, lambda: reader.count_publishers('/robot0/odom') > 0, 60.0)
+            return controller_phases(executables, course)
+    finally:
+        simulator.send_signal(signal.SIGINT)
+        simulator.wait(timeout=60)
+
+
+def controller_phases(executables, course):
+    """Run waypoint_controller on course; return its (start, loop, end) in wall seconds."""
+    marks = {'launch': time.perf_counter()}
+    controller = subprocess.Popen([os.path.join(executables, 'waypoint_controller'), course],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    for line in controller.stdout:
+        for word in ('STARTED', 'FINISHED'):
+            if word in line:
+                marks.setdefault(word, time.perf_counter())
+    controller.wait(timeout=RUN_TIMEOUT)
+    marks['exit'] = time.perf_counter()
+    if 'FINISHED' not in marks or 'STARTED' not in marks:
+        raise RuntimeError(f'the controller did not finish the course (exit code '
+                           f'{controller.returncode})')
+    return (marks['STARTED'] - marks['launch'], marks['FINISHED'] - marks['STARTED'],
+            marks['exit'] - marks['FINISHED'])
+
+
+def print_demo_phases(course, repeat, real_time_factor=4.0):
+    phases = np.median([demo_phases(course, real_time_factor) for _ in range(repeat)], axis=0)
+    start, loop, end = phases
+    print(f"the demo's run (stdr_lite and waypoint_controller as processes, lockstep at "
+          f'{real_time_factor:g}x), median of {repeat}: start {start:.2f} s ({start / loop:.3f} '
+          f'of the loop), loop {loop:.2f} s, end {end:.2f} s ({end / loop:.3f} of the loop); '
+          f'wall time {start + end:.2f} s over the loop', flush=True)
+
+
 def crowded_simulation(robot_count, seed):
     """Return the lab room with robot_count lab robots at random free poses."""
     simulation = Simulation(load_map(shared_file(*BUNDLED_MAP)), SimulationSettings(rate_hz=50.0))
@@ -290,6 +342,7 @@ def main(argv=None):
         print(f'{count:7d} {rate:14,.0f} {rate / count:9,.0f} {rate / count / 50:18,.1f}x',
               flush=True)
     print_lockstep(args.course, args.repeat, ceiling_seconds)
+    print_demo_phases(args.course, args.repeat)
     factors = [node_real_time_factor(args.crowd, args.node_seconds) for _ in range(args.repeat)]
     print(f'the whole stdr_lite node, {args.crowd} lab robots, free-running unpaced, odometry '
           f'at 10 Hz to a subscriber: {np.median(factors):.2f}x real time by /clock over '

@@ -7,7 +7,9 @@ from rclpy.duration import Duration
 # Participants on this host find each other within this much wall time. Measured here with
 # Fast DDS's default transports (shared memory and UDP): usually 0.05 to 0.2 s, but about one
 # time in ten the quick exchange is missed and a peer appears only with its next periodic
-# announcement, up to 3 s later (3.06 s seen). A node younger than this may not see every peer.
+# announcement, up to 3 s later (3.06 s seen; our Fast DDS profile, which processes started
+# without it do not have, bounds it to about 0.4 s). A node younger than this may not see
+# every peer.
 DISCOVERY_TIME = 4.0
 SETTLED_FOR = 0.25
 # A reader of cmd_vel of the other message type may be about to follow ours: stdr_lite takes
@@ -73,11 +75,11 @@ def deliver_before_exit(node, publisher, alive_since, budget):
     """
     Wait, at most budget seconds of wall time, until every reader has every message.
 
-    wait_for_all_acked covers only the readers matched so far. Once the graph knows of a
-    reader of the topic, the wait lasts until every reader the graph knows is matched (a
-    matter of milliseconds), steady for a moment; while it knows of none, a reader may still
-    be on its way, so the node first reaches the discovery time. Discovery runs in the
-    middleware's own threads: nothing needs to spin meanwhile.
+    wait_for_all_acked covers only the readers matched so far, so the wait lasts until every
+    reader the graph knows is matched (a matter of milliseconds). A node younger than the
+    discovery time may not know every reader yet: while it knows of none, one may still be on
+    its way, so it waits for the discovery time; once it knows some, for them all, steady for
+    a moment. Discovery runs in the middleware's own threads: nothing needs to spin meanwhile.
     """
     deadline = time.monotonic() + budget
     topic = publisher.topic_name
@@ -88,8 +90,9 @@ def deliver_before_exit(node, publisher, alive_since, budget):
         if current != count:
             count, steady_since = current, now
         known = node.count_subscribers(topic)
-        discovered = now >= alive_since + DISCOVERY_TIME or (known > 0 and current >= known)
-        if discovered and now - steady_since >= SETTLED_FOR:
+        settled = now >= alive_since + DISCOVERY_TIME or (
+            known > 0 and now - steady_since >= SETTLED_FOR)
+        if current >= known and settled:
             break
         time.sleep(POLL_PERIOD)
     remaining = deadline - time.monotonic()

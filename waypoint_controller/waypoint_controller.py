@@ -23,7 +23,6 @@ from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
 from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
-from waypoint_controller.clearance import Clearance
 from waypoint_controller.continuity import jump_problem
 from waypoint_controller.control_law import ControllerConfig, CourseFollower
 from waypoint_controller.schedule import ControlSchedule
@@ -32,14 +31,15 @@ from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.interface import course_message, COURSE_PARAMETERS, load_course, status_qos
 from waypoint_lab.status import aborted, finished, started, waypoint_reached
 
-# Wall-clock seconds. Odometry is held this long after start, which covers discovery nine
-# times in ten, to see who else commands the robot; the controller stays ready to yield for the
-# whole discovery time, so a slow discovery costs at most a few seconds of two commanders
-# rather than every run a wait. When /map has a publisher, odometry is held on until the map
-# is in (at most MAP_WAIT), so the first plan already avoids the walls and a run does not
-# depend on when the map happened to arrive. Silence this long is worth a warning. At the end
-# of a run, readers known to the graph get what they need (see deliver_before_exit), unknown
-# ones as long as discovery may take; when interrupted, a moment.
+# Wall-clock seconds. Odometry is held this long after the node is made, which covers discovery
+# nine times in ten (config/fastdds_quick_discovery.xml), to see who else commands the robot;
+# the controller stays ready to yield for the whole discovery time, so a slow discovery costs
+# at most a few seconds of two commanders rather than every run a wait. When /map has a
+# publisher, odometry is held on until the map is in (at most MAP_WAIT), so the first plan
+# already avoids the walls and a run does not depend on when the map happened to arrive.
+# Silence this long is worth a warning. At the end of a run, readers known to the graph get
+# what they need (see deliver_before_exit), unknown ones as long as discovery may take; when
+# interrupted, a moment.
 FIRST_ANSWER_AFTER = SETTLED_FOR
 MAP_WAIT = 10.0
 NEWCOMER_FOR = DISCOVERY_TIME
@@ -103,6 +103,9 @@ class WaypointController(GuardedNode):
 
     def __init__(self, waypoint_file=None, **kwargs):
         super().__init__('waypoint_controller', **kwargs)
+        # Discovery began with the node: its grace runs from now.
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._discovery = self.create_timer(FIRST_ANSWER_AFTER, self._end_grace, clock=steady)
         self.finished = Future()
         params = declare_parameters(self, PARAMETERS)
         path, waypoints = load_course(self, waypoint_file, params['waypoint_file'])
@@ -135,9 +138,11 @@ class WaypointController(GuardedNode):
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
-        steady = Clock(clock_type=ClockType.STEADY_TIME)
         self.create_timer(WATCH_PERIOD, self._watch_odometry, clock=steady)
-        self._discovery = self.create_timer(FIRST_ANSWER_AFTER, self._end_grace, clock=steady)
+        # The wall check needs scipy, a sixth of a second to import: imported now, while
+        # discovery runs, rather than before the node exists or once the map has come.
+        from waypoint_controller.clearance import Clearance
+        self._clearance = Clearance
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
 
     def _end_grace(self):
@@ -195,7 +200,7 @@ class WaypointController(GuardedNode):
             self._map_given_up = True
             self._release_held()
             return
-        self._follower.avoid(Clearance(grid, self._robot_radius).is_free)
+        self._follower.avoid(self._clearance(grid, self._robot_radius).is_free)
         self.get_logger().info(f'planning around the walls of /map ({grid.width} x '
                                f'{grid.height} cells of {grid.resolution:g} m)')
         self._has_map = True

@@ -9,6 +9,8 @@ def test_the_realtime_bench_prints_the_loop_against_its_ceiling():
     assert_smoke_run_prints(
         'realtime', r'^ +10 +[\d,]+ +[\d,]+ +[\d,]+\.\dx$',
         rf'^one process +{FIGURE} +{FIGURE} +\d+\.\d\d ', rf'^two processes +{FIGURE} +{FIGURE} ',
+        r"^the demo's run .*: start \d+\.\d\d s \(\d\.\d{3} of the loop\), loop \d+\.\d\d s, "
+        r'end \d+\.\d\d s \(\d\.\d{3} of the loop\); wall time \d+\.\d\d s over the loop$',
         rf'the whole stdr_lite node, 10 lab robots, .*: {FIGURE} real time',
         r'^sensors of 10 lab robots .*: \d+\.\d% of one core')
 

@@ -9,6 +9,9 @@ import pytest
 
 from simple_robot_control.executables import MODULES
 
+# Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
+pytestmark = pytest.mark.xdist_group('colcon_install_tree')
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGE = 'simple_robot_control'
 EXECUTABLES = list(MODULES)

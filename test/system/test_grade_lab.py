@@ -14,6 +14,9 @@ from xml.etree import ElementTree
 from grade_runs import grade, write_course
 import pytest
 
+# Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
+pytestmark = pytest.mark.xdist_group('grade_lab_batch')
+
 STUDENT = Path(__file__).resolve().parents[1] / 'controllers' / 'student.py'
 BEHAVIOURS = ('honest', 'early', 'off10', 'silent', 'crash', 'hang', 'ignore_sigint', 'fork')
 

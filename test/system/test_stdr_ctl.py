@@ -7,6 +7,9 @@ import subprocess
 from processes import executable, interrupt, run, start
 import pytest
 
+# Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
+pytestmark = pytest.mark.xdist_group('stdr_ctl_simulator')
+
 SIM_TIME = re.compile(r'sim time (\S+) s')
 
 
