@@ -1,9 +1,10 @@
 """
 The grading's report for people: a Markdown page with a picture of every course run.
 
-Each picture is plot_run's: the map, the robot's true path coloured by time (from the
-simulator's ground truth, not the submission's odometry), each waypoint's goal set and the
-poses the submission reported in its WAYPOINT messages, drawn against that path. No ROS here.
+Each picture is plot_run's (run_picture.py): the map, the robot's true path coloured by time
+(from the simulator's ground truth, not the submission's odometry), each waypoint's goal set
+and the poses the submission reported in its WAYPOINT messages, drawn against that path. No
+ROS here.
 """
 
 from datetime import datetime
@@ -13,7 +14,6 @@ from lab_grader.reports import figures, MARKS, RULES, terminal_table
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot, RobotFileError
-from waypoint_lab.plot_run import render_run
 
 LAB_ROBOT_RADIUS = 0.2
 
@@ -23,6 +23,8 @@ def draw_course(verdict) -> str:
     course, folder, run = verdict.course, verdict.folder, verdict.run
     if run is None or not len(run.times):
         return 'no true path was recorded'
+    # Here, not at the top: matplotlib is a third of grade_lab's start, needed only to draw.
+    from waypoint_lab.run_picture import render_run
     try:
         radius = (load_robot(course.robot_file, (shared_file(*BUNDLED_RESOURCES),)).radius
                   if course.robot_file else LAB_ROBOT_RADIUS)

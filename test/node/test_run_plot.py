@@ -17,8 +17,9 @@ from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import WaypointController
 from waypoint_lab.course_monitor import CourseMonitor
 from waypoint_lab.interface import status_qos
-from waypoint_lab.plot_run import DPI, FIGURE_SIZE, main as plot_run, render_run
+from waypoint_lab.plot_run import main as plot_run
 from waypoint_lab.run import read_run
+from waypoint_lab.run_picture import DPI, FIGURE_SIZE, render_run
 
 COURSE = '2.5 2 0\n2.5 3 90\n'
 

@@ -31,8 +31,9 @@ def batch(tmp_path_factory):
     """
     root = tmp_path_factory.mktemp('batch')
     courses = root / 'courses'
-    write_course(courses, 'here', '1.0 2.0 0.0', time_limit=8)
-    write_course(courses, 'ahead', '2.0 2.0 0.0', time_limit=8, points=2)
+    # No submission here drives: the time limit only bounds the runs of silent and hang.
+    write_course(courses, 'here', '1.0 2.0 0.0', time_limit=5)
+    write_course(courses, 'ahead', '2.0 2.0 0.0', time_limit=5, points=2)
     groups = root / 'groups'
     for behaviour in BEHAVIOURS:
         (groups / behaviour).mkdir(parents=True)
@@ -81,11 +82,11 @@ def test_each_submission_gets_its_verdict_and_leaves_nothing_running(batch):
     assert 'while the robot was 1.000 m and 0.0° from waypoint 1' in verdicts(
         report, 'early', 'ahead')['WAYPOINT 1'][1]
     assert '10.0 cm and 0.0° off' in verdicts(report, 'off10', 'here')['WAYPOINT 1'][1]
-    assert 'no message on robot_status within the time limit of 8 s' in verdicts(
+    assert 'no message on robot_status within the time limit of 5 s' in verdicts(
         report, 'silent', 'here')['STARTED'][1]
     crashed = verdicts(report, 'crash', 'here')['ends when asked'][1]
     assert 'crashed' in crashed and 'this submission crashes on purpose' in crashed
-    assert 'within the time limit of 8 s' in verdicts(report, 'hang', 'here')['FINISHED'][1]
+    assert 'within the time limit of 5 s' in verdicts(report, 'hang', 'here')['FINISHED'][1]
     ignoring = verdicts(report, 'ignore_sigint', 'here')['ends when asked'][1]
     assert 'ignored Ctrl-C (SIGINT)' in ignoring
     assert 'left 1 process(es) running after it ended' in verdicts(

@@ -29,7 +29,8 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'continuity', 'planner', 'reeds_shepp',
         'clearance')] + [
-    f'waypoint_lab/{name}.py' for name in ('course', 'waypoints', 'status', 'run', 'plot_run')] + [
+    f'waypoint_lab/{name}.py' for name in (
+        'course', 'waypoints', 'status', 'run', 'plot_run', 'run_picture')] + [
     f'lab_grader/{name}.py' for name in (
         'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
