@@ -36,7 +36,8 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from simple_robot_control.occupancy_map import load_map
-from simple_robot_control.share import BUNDLED_COURSE, BUNDLED_MAP, BUNDLED_ROBOT, shared_file
+from simple_robot_control.share import (BUNDLED_COURSE, BUNDLED_MAP, BUNDLED_ROBOT,
+                                        installed_executable, shared_file)
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
@@ -104,7 +105,7 @@ def drive_course(course, separate_process):
                 executor.add_node(node)
             if separate_process:
                 controller_process = subprocess.Popen(
-                    [os.path.join(os.path.dirname(sys.executable), 'waypoint_controller'),
+                    [installed_executable('waypoint_controller'),
                      course, '--ros-args', '--log-level', 'warn'])
             else:
                 executor.add_node(WaypointController(course, context=context))
@@ -132,8 +133,7 @@ def demo_phases(course, real_time_factor):
     odometry is in the graph, the controller starts as a process. Start is from its launch to
     the STARTED it logs, loop from STARTED to FINISHED, end from FINISHED to its exit.
     """
-    executables = os.path.dirname(sys.executable)
-    simulator = subprocess.Popen([os.path.join(executables, 'stdr_lite'), '--ros-args',
+    simulator = subprocess.Popen([installed_executable('stdr_lite'), '--ros-args',
                                   '-p', 'lockstep:=true',
                                   '-p', f'real_time_factor:={real_time_factor!r}',
                                   '--log-level', 'warn'])
@@ -142,16 +142,16 @@ def demo_phases(course, real_time_factor):
             reader = StatusWatch(context)
             executor.add_node(reader)
             spin_until(executor, lambda: reader.count_publishers('/robot0/odom') > 0, 60.0)
-            return controller_phases(executables, course)
+            return controller_phases(course)
     finally:
         simulator.send_signal(signal.SIGINT)
         simulator.wait(timeout=60)
 
 
-def controller_phases(executables, course):
+def controller_phases(course):
     """Run waypoint_controller on course; return its (start, loop, end) in wall seconds."""
     marks = {'launch': time.perf_counter()}
-    controller = subprocess.Popen([os.path.join(executables, 'waypoint_controller'), course],
+    controller = subprocess.Popen([installed_executable('waypoint_controller'), course],
                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     for line in controller.stdout:
         for word in ('STARTED', 'FINISHED'):

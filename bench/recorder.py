@@ -10,26 +10,24 @@ rate, and how many stamps are missing from any robot's sequence (0 means nothing
 
 import argparse
 from collections import Counter
-import os
 from pathlib import Path
 import signal
 import subprocess
-import sys
 from tempfile import TemporaryDirectory
 import time
 
 from bench.realtime import keep_dds_on_loopback, write_robot_grid
 from mcap.reader import make_reader
 from rosbags.typesys import get_typestore, Stores
+from simple_robot_control.share import installed_executable
 
 ODOMETRY_PERIOD_NS = 100_000_000
 
 
 def start(arguments, log):
-    """Start an executable of this environment (beside its Python) with its output in log."""
-    executable = os.path.join(os.path.dirname(sys.executable), arguments[0])
-    return subprocess.Popen([executable, *arguments[1:]], stdout=log, stderr=subprocess.STDOUT,
-                            text=True)
+    """Start one of the package's executables with its output in log."""
+    return subprocess.Popen([installed_executable(arguments[0]), *arguments[1:]], stdout=log,
+                            stderr=subprocess.STDOUT, text=True)
 
 
 def wait_for(ready, what, timeout=120.0):

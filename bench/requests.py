@@ -17,11 +17,9 @@ the new one loads. The target: no gap beyond 100 ms, five step periods.
 
 import argparse
 import math
-import os
 from pathlib import Path
 import signal
 import subprocess
-import sys
 from tempfile import TemporaryDirectory
 import time
 
@@ -35,6 +33,7 @@ from rclpy.time import Time
 from rosgraph_msgs.msg import Clock
 from simple_robot_control.input_files import MAX_DESCRIPTION_BYTES
 from simple_robot_control.pose import set_pose
+from simple_robot_control.share import installed_executable
 from simulation_interfaces.msg import Bounds, EntityFilters
 from simulation_interfaces.srv import GetEntities, GetSpawnables, LoadWorld, SpawnEntity
 from stdr_lite.core.robot_description import MAX_SENSORS
@@ -152,7 +151,7 @@ def write_big_world(folder, cells=WORLD_CELLS):
 def measure_once(folder, size=1.0, quiet=2.0, cells=WORLD_CELLS):
     """Run the simulator and every burst once; return {label: (longest, p99, seconds)}."""
     simulator = subprocess.Popen(
-        [os.path.join(os.path.dirname(sys.executable), 'stdr_lite'), '--ros-args',
+        [installed_executable('stdr_lite'), '--ros-args',
          '--log-level', 'warn'])
     figures = {}
     try:
