@@ -11,7 +11,7 @@ PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 # Each is started by simple_robot_control/executables.py, which names its module.
 EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
-               'course_monitor', 'plot_run', 'record_run', 'grade_lab')
+               'course_monitor', 'plot_run', 'record_run', 'foxglove_live', 'grade_lab')
 
 setup(
     name=PACKAGE_NAME,
@@ -32,12 +32,14 @@ setup(
         *((f'{SHARE}/{folder}', sorted(glob(f'{folder}/*.xml')))
           for folder in sorted(glob('resources/*'))),
         (f'{SHARE}/obstacles', sorted(glob('obstacles/*.yaml'))),
-        (f'{SHARE}/config', sorted(glob('config/*.yaml') + glob('config/*.xml'))),
+        (f'{SHARE}/config',
+         sorted(glob('config/*.yaml') + glob('config/*.xml') + glob('config/*.json'))),
         (f'{SHARE}/rviz', sorted(glob('rviz/*.rviz'))),
     ],
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
-                      'pygame', 'regex', 'mcap', 'rosbags', 'psutil', 'numba', 'gymnasium'],
+                      'pygame', 'regex', 'mcap', 'rosbags', 'psutil', 'numba', 'gymnasium',
+                      'foxglove-sdk>=0.30'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

@@ -2,11 +2,13 @@
 # The main job: stdr_lite and waypoint_controller as two processes on a bundled course, in
 # lockstep. course_monitor prints every robot_status message as it arrives with a progress line
 # and records the run; plot_run then draws it to run.png. The demo ends when the controller does
-# and exits with its code. VIEWER=1 also opens stdr_viewer to watch the run live.
+# and exits with its code. VIEWER=1 also opens stdr_viewer to watch the run live; VIEWER=foxglove
+# serves it to Foxglove (foxglove_live) on localhost:${FOXGLOVE_PORT:-8765}, here or through ssh.
 set -euo pipefail
 : "${ROS_AUTOMATIC_DISCOVERY_RANGE:?must be LOCALHOST; run through make demo}"
 : "${ROS_DOMAIN_ID:?run through make demo}"
-course=${COURSE:-$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control/waypoints/lab_tour.txt}
+share=$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control
+course=${COURSE:-$share/waypoints/lab_tour.txt}
 speed=${REAL_TIME_FACTOR:-4.0}
 [[ $speed == *.* ]] || speed=$speed.0  # ROS wants a double parameter written as one
 record=${RECORD:-run.mcap}
@@ -24,7 +26,21 @@ for _ in $(seq 100); do
     sleep 0.1
 done
 viewer=
-if [ -n "${VIEWER:-}" ]; then
+if [ "${VIEWER:-}" = foxglove ]; then
+    # Its line (where to connect) shows once it serves; the controller starts after it.
+    live_log=$(mktemp)
+    foxglove_live --ros-args -p port:="${FOXGLOVE_PORT:-8765}" --log-level warn \
+        > >(tee "$live_log") 2>&1 &
+    viewer=$!
+    for _ in $(seq 100); do
+        grep -q 'connect to ws://' "$live_log" && break
+        kill -0 $viewer 2>/dev/null || break
+        sleep 0.1
+    done
+    rm -f "$live_log"
+    kill -0 $viewer 2>/dev/null || { echo 'demo: foxglove_live did not start' >&2; exit 1; }
+    echo "Foxglove layout of the lab (Layouts, Import from file): $share/config/foxglove_lab_layout.json"
+elif [ -n "${VIEWER:-}" ]; then
     # A window where there is a display; offscreen otherwise, leaving its last frame.
     [ -n "${DISPLAY:-}" ] || export SDL_VIDEODRIVER=dummy
     stdr_viewer --ros-args -p screenshot:=viewer.png --log-level warn &

@@ -5,11 +5,16 @@ One .mcap file that ros2 bag (Jazzy's MCAP storage plugin), Foxglove and rosbags
 ros2 profile (CDR messages, ros2msg schemas with their dependencies), a channel per topic whose
 metadata holds the offered QoS profiles in rosbag2's YAML (so transient-local topics replay as
 transient local) and the type hash, chunks written out as they fill (a bag cut short stays
-readable up to its last chunk), and the summary with its statistics at the end. The file
+readable up to its last chunk), and the summary with its statistics at the end. As rosbag2's
+MCAP storage (Jazzy, 0.26.5) does, the header names the C++ mcap library rosbag2 links ("libmcap
+1.3.0") and a `rosbag2` metadata record, written at the start and again at the end, holds the bag's
+metadata in rosbag2's YAML (version 9: topics, counts, times, ROS_DISTRO), so that `ros2 bag info`
+shows the distribution; who really wrote the bag is in that metadata's custom_data. The file
 format is mcap's; the message definitions come from rosbags' Jazzy type store, or from the
 installed .msg files for the types it lacks. No ROS client here: messages arrive serialised.
 """
 
+from importlib.metadata import PackageNotFoundError, version
 import json
 import os
 from pathlib import Path
@@ -22,6 +27,13 @@ from rosbags.typesys import get_types_from_msg, get_typestore, Stores
 from rosbags.typesys.base import TypesysError
 import yaml
 
+# What rosbag2 0.26.5 (Jazzy) writes: its header's library (the C++ mcap release it vendors), its
+# metadata record's name and the version of the metadata inside.
+ROSBAG2_LIBRARY = 'libmcap 1.3.0'
+ROSBAG2_METADATA = 'rosbag2'
+ROSBAG2_METADATA_VERSION = 9
+# The distribution of the ROS 2 wheels this package runs on, where ROS_DISTRO is not set.
+ROS_DISTRO = 'jazzy'
 # The metadata record naming the run: {'course': the waypoint file's name}.
 RUN_METADATA = 'simple_robot_control.run'
 # rosbag2's MCAP storage defaults to chunks of about 768 KiB; smaller ones lose less when a
@@ -114,10 +126,14 @@ class BagWriter:
         self._writer = Writer(self._stream, chunk_size=CHUNK_SIZE,
                               compression=CompressionType.NONE)
         self._schemas, self._channels = {}, {}
+        # Per channel: (topic, type, offered profiles) and how many messages it holds.
+        self._topics, self._counts = {}, {}
+        self._first_ns = self._last_ns = None
         self._flushed_at = time.monotonic()
         self.message_count = 0
         self.failure = None
-        self._guarded(lambda: self._writer.start(profile='ros2', library='simple_robot_control'))
+        self._guarded(lambda: self._writer.start(profile='ros2', library=ROSBAG2_LIBRARY))
+        self._write_rosbag2_metadata()
 
     def _guarded(self, action):
         """Run action on the file; a refused write ends the bag and raises BagError."""
@@ -149,11 +165,13 @@ class BagWriter:
             definition = message_definition(type_name).encode()
             self._schemas[type_name] = self._guarded(lambda: self._writer.register_schema(
                 name=type_name, encoding='ros2msg', data=definition))
-        self._channels[topic] = self._guarded(lambda: self._writer.register_channel(
+        channel = self._channels[topic] = self._guarded(lambda: self._writer.register_channel(
             topic=topic, message_encoding='cdr', schema_id=self._schemas[type_name],
             metadata={'offered_qos_profiles': qos_yaml(offered_qos),
                       'topic_type_hash': type_hash(type_name)}))
-        return self._channels[topic]
+        self._topics[channel] = (topic, type_name, offered_qos)
+        self._counts[channel] = 0
+        return channel
 
     def write(self, channel: int, log_time_ns: int, data: bytes,
               publish_time_ns: int | None = None) -> None:
@@ -162,6 +180,11 @@ class BagWriter:
             channel_id=channel, log_time=log_time_ns, data=data,
             publish_time=log_time_ns if publish_time_ns is None else publish_time_ns))
         self.message_count += 1
+        self._counts[channel] += 1
+        if self._first_ns is None or log_time_ns < self._first_ns:
+            self._first_ns = log_time_ns
+        if self._last_ns is None or log_time_ns > self._last_ns:
+            self._last_ns = log_time_ns
         if time.monotonic() - self._flushed_at > FLUSH_PERIOD:
             self._guarded(self._stream.flush)
             self._flushed_at = time.monotonic()
@@ -169,5 +192,55 @@ class BagWriter:
     def close(self) -> None:
         """Finish the bag (the last chunk, the summary, the statistics), unless it has failed."""
         if self.failure is None and not self._stream.closed:
+            self._write_rosbag2_metadata()
             self._guarded(self._writer.finish)
             self._guarded(self._stream.close)
+
+    def _write_rosbag2_metadata(self):
+        """Write rosbag2's metadata record, as its MCAP storage does at a bag's start and end."""
+        self.add_metadata(ROSBAG2_METADATA, {'serialized_metadata': yaml.safe_dump(
+            rosbag2_metadata(self.path.name, self._first_ns, self._last_ns, [
+                (*self._topics[channel], count) for channel, count in self._counts.items()]),
+            sort_keys=False)})
+
+
+def rosbag2_metadata(file_name: str, first_ns: int | None, last_ns: int | None,
+                     topics: list[tuple[str, str, list[dict], int]]) -> dict:
+    """
+    Return a bag's metadata as rosbag2 serialises it (BagMetadata, version 9).
+
+    topics holds (topic, type, offered QoS profiles, message count) each; first_ns and last_ns
+    are the first and last log times, None before any message (rosbag2 then writes the
+    largest time as the start, and no duration).
+    """
+    start = (2 ** 63 - 1) if first_ns is None else first_ns
+    duration = 0 if first_ns is None else last_ns - first_ns
+    count = sum(topic[3] for topic in topics)
+    return {
+        'version': ROSBAG2_METADATA_VERSION, 'storage_identifier': 'mcap',
+        'duration': {'nanoseconds': duration}, 'starting_time': {'nanoseconds_since_epoch': start},
+        'message_count': count,
+        'topics_with_message_count': [{'topic_metadata': {
+            'name': topic, 'type': type_name, 'serialization_format': 'cdr',
+            'offered_qos_profiles': [{key: profile[key] for key in QOS_KEYS}
+                                     for profile in profiles],
+            'type_description_hash': type_hash(type_name)}, 'message_count': messages}
+            for topic, type_name, profiles, messages in topics],
+        'compression_format': '', 'compression_mode': '',
+        'relative_file_paths': [file_name],
+        'files': [{'path': file_name, 'starting_time': {'nanoseconds_since_epoch': start},
+                   'duration': {'nanoseconds': duration}, 'message_count': count}],
+        'custom_data': {'writer': _writer_name()},
+        'ros_distro': os.environ.get('ROS_DISTRO') or ROS_DISTRO,
+    }
+
+
+def _writer_name():
+    """Name what wrote the bag (the header names the library rosbag2 writes with)."""
+    def release(distribution):
+        try:
+            return version(distribution)
+        except PackageNotFoundError:
+            return 'unknown'
+    return (f'simple_robot_control {release("simple_robot_control")} with mcap (Python) '
+            f'{release("mcap")}')

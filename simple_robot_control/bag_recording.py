@@ -6,8 +6,8 @@ later are recorded too; each is subscribed with what its publishers offer (relia
 transient local only when all of them are), so a transient-local topic's history is received,
 as ros2 bag does. A message's log time is when it was received (by the node's clock); with
 send_times, its publish time is when it was sent (the middleware's source timestamp, wall
-time), as rosbag2 writes it: rclpy passes that to the callbacks of its Python executors, not to
-the EventsExecutor's, so a node spun by an EventsExecutor records its log time for both.
+time), as rosbag2 writes it, whichever executor spins the node (rclpy's EventsExecutor gives it
+only to a callback that asks for it, and differently: see _make_subscription).
 record_run is a node of its own around it; course_monitor and grade_lab record runs with it.
 A bag the disk stops taking (full) ends the recording with one line, never the node's run.
 """
@@ -15,6 +15,7 @@ A bag the disk stops taking (full) ends the recording with one line, never the n
 from collections import Counter
 from fnmatch import fnmatchcase
 import importlib
+import inspect
 
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -47,6 +48,20 @@ def message_class(type_name):
         return getattr(importlib.import_module(f'{package}.{kind}'), name)
     except (ImportError, AttributeError):
         return None
+
+
+def subscription_qos(profiles, depth=DEPTH):
+    """
+    Return the QoS to subscribe with to publishers offering profiles, and whether it latches.
+
+    Reliable and transient local only when every publisher is, as ros2 bag subscribes.
+    """
+    reliable = all(p.reliability == ReliabilityPolicy.RELIABLE for p in profiles)
+    latched = all(p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
+    return QoSProfile(depth=depth, reliability=(
+        ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT),
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE
+    ), latched
 
 
 class BagRecording:
@@ -137,14 +152,7 @@ class BagRecording:
             self._skipped.add(topic)
             self._node.get_logger().warn(f'{topic}: not recorded: {error}')
             return
-        qos = QoSProfile(depth=DEPTH, reliability=(
-            ReliabilityPolicy.RELIABLE if all(p.reliability == ReliabilityPolicy.RELIABLE
-                                              for p in profiles)
-            else ReliabilityPolicy.BEST_EFFORT), durability=(
-            DurabilityPolicy.TRANSIENT_LOCAL if all(
-                p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
-            else DurabilityPolicy.VOLATILE))
-        self._subscribe(topic, kind, channel, qos)
+        self._subscribe(topic, kind, channel, subscription_qos(profiles)[0])
 
     def _subscribe(self, topic, kind, channel, qos, then=None, seen=None):
         self._recorded[topic] = self._make_subscription(topic, kind, channel, qos, then, seen)
@@ -169,8 +177,13 @@ class BagRecording:
             if then is not None:
                 then(data, sent)
 
-        def write_with_send_time(data, info):
+        def write_with_send_time(data, info=None):
+            if info is None:
+                data, info = data
             write(data, info)
+        # rclpy passes the MessageInfo to a callback whose signature needs two arguments: its
+        # Python executors as the second, its EventsExecutor (7.1) with the message in a tuple.
+        write_with_send_time.__signature__ = inspect.signature(lambda data, info: None)
         return self._node.create_subscription(
             kind, topic, write_with_send_time if self._send_times else write, qos, raw=True)
 

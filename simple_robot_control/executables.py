@@ -25,6 +25,7 @@ MODULES = {
     'course_monitor': 'waypoint_lab.course_monitor',
     'plot_run': 'waypoint_lab.plot_run',
     'record_run': 'waypoint_lab.record_run',
+    'foxglove_live': 'simple_robot_control.foxglove_live',
     'grade_lab': 'lab_grader.grade_lab',
 }
 
@@ -75,4 +76,5 @@ waypoint_controller = partial(start, 'waypoint_controller')
 course_monitor = partial(start, 'course_monitor')
 plot_run = partial(start, 'plot_run')
 record_run = partial(start, 'record_run')
+foxglove_live = partial(start, 'foxglove_live')
 grade_lab = partial(start, 'grade_lab')

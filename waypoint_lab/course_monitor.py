@@ -67,8 +67,8 @@ class CourseMonitor(GuardedNode):
         self._wall_started = None
         self._progress_shown = False
         self.recording = (BagRecording(self, params['bag'], RUN_TOPICS, inputs=[path],
-                                       course=os.path.basename(path)) if params['bag']
-                          else None)
+                                       send_times=True, course=os.path.basename(path))
+                          if params['bag'] else None)
         if self.recording is not None:
             # From the start, as the monitor hears them: a status is dated by what came before.
             self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String',

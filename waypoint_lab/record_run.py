@@ -14,32 +14,34 @@ from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
 
-# What makes a run of the lab: the controller's reports and course, every robot's odometry and
-# ground truth, the frames, the map and the time.
+# What makes a run of the lab: the controller's reports and course, every robot's odometry,
+# ground truth and sensors (named laser_N and sonar_N, as STDR's robot files name them), the
+# frames, the map and the time.
 RUN_TOPICS = (f'/{STATUS_TOPIC}', f'/{COURSE_TOPIC}', '/tf', '/tf_static', '/map', '/clock',
-              '*/odom', '*/ground_truth')
+              '*/odom', '*/ground_truth', '*/laser_*', '*/sonar_*')
 
 PARAMETERS = (
     ParameterSpec('bag', 'run.mcap', 'the bag to write, an .mcap file (replaced if it exists)'),
     ParameterSpec('topics', RUN_TOPICS, 'the topics to record: full names or patterns (* and ?, '
-                  "as in shell globs; '*/laser_*' adds every robot's lasers)"),
+                  "as in shell globs: '*/odom' is every robot's odometry)"),
 )
 
 DESCRIPTION = ('record_run: record the topics of a run (robot_status, the course, odometry, '
-               'ground truth, TF, map, clock; or those given) into a rosbag2 bag in MCAP that '
-               'ros2 bag, Foxglove and plot_run read. Stops on Ctrl-C, leaving the bag '
-               'complete.')
+               'ground truth, lasers, sonars, TF, map, clock; or those given) into a rosbag2 '
+               'bag in MCAP that ros2 bag, Foxglove and plot_run read. Stops on Ctrl-C, '
+               'leaving the bag complete.')
 
 
 class RunRecorder(GuardedNode):
-    """A node that only records (see BagRecording)."""
+    """A node that only records (see BagRecording), with each message's send time."""
 
     def __init__(self, bag=None, topics=None, **kwargs):
         super().__init__('record_run', **kwargs)
         # Recording ends only when asked to (Ctrl-C): nothing sets this.
         self.finished = Future()
         params = declare_parameters(self, PARAMETERS)
-        self.recording = BagRecording(self, bag or params['bag'], topics or params['topics'])
+        self.recording = BagRecording(self, bag or params['bag'], topics or params['topics'],
+                                      send_times=True)
 
     def shut_down(self):
         """Finish the bag, so that an interrupted recording is complete and indexed."""

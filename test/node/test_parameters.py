@@ -8,6 +8,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from ros_helpers import overrides, spin_until
+from simple_robot_control import foxglove_live
 from stdr_lite.node import parameters as simulator_parameters
 from stdr_lite.node.stdr_lite import StdrLite
 from stdr_lite.tools import move_robot
@@ -22,7 +23,8 @@ CONFIG = Path(__file__).resolve().parents[2] / 'config'
 NODES = {'stdr_lite': simulator_parameters.PARAMETERS,
          'waypoint_controller': waypoint_controller.PARAMETERS,
          'course_monitor': course_monitor.PARAMETERS, 'move_robot': move_robot.PARAMETERS,
-         'stdr_viewer': stdr_viewer.PARAMETERS, 'record_run': record_run.PARAMETERS}
+         'stdr_viewer': stdr_viewer.PARAMETERS, 'record_run': record_run.PARAMETERS,
+         'foxglove_live': foxglove_live.PARAMETERS}
 
 
 @pytest.mark.parametrize('node', NODES)

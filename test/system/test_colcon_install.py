@@ -40,8 +40,9 @@ def test_package_is_registered_in_the_ament_index(install_tree):
     assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
     assert {path.name for path in (prefix / 'share' / PACKAGE / 'config').iterdir()} == {
         f'{name}.yaml' for name in ('stdr_lite', 'waypoint_controller', 'course_monitor',
-                                    'move_robot', 'stdr_viewer', 'record_run')} | {
-        'fastdds_quick_discovery.xml'}
+                                    'move_robot', 'stdr_viewer', 'record_run',
+                                    'foxglove_live')} | {
+        'fastdds_quick_discovery.xml', 'foxglove_lab_layout.json'}
 
 
 @pytest.mark.parametrize('name', EXECUTABLES)

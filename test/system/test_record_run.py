@@ -1,5 +1,6 @@
 """record_run as an executable: Ctrl-C leaves a complete bag, a kill keeps its chunks."""
 
+import os
 import signal
 
 from mcap.exceptions import McapError
@@ -9,6 +10,7 @@ from mcap.stream_reader import StreamReader
 from processes import start, start_logged, stop, wait_for_text, wait_until
 import pytest
 from rosbags.highlevel import AnyReader
+import yaml
 
 
 @pytest.fixture
@@ -35,14 +37,30 @@ def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording):
     assert recorder.returncode == 0, stderr
     assert 'Traceback' not in stderr
     with open(bag, 'rb') as stream:
-        summary = make_reader(stream).get_summary()
+        reader = make_reader(stream)
+        summary = reader.get_summary()
+        (rosbag2, *_) = [record.metadata for record in reversed(list(reader.iter_metadata()))
+                         if record.name == 'rosbag2']
+        delays = [message.log_time - message.publish_time
+                  for _, _, message in reader.iter_messages()]
     assert summary.statistics.message_count > 100
     with AnyReader([bag]) as reader:
         topics = {connection.topic for connection in reader.connections}
         count = sum(1 for _ in reader.messages())
-    assert {'/robot0/odom', '/tf', '/tf_static', '/map'} <= topics
+    # The run with the robot's sensors, as Foxglove shows it and ros2 bag info lists it.
+    assert {'/robot0/odom', '/tf', '/tf_static', '/map', '/robot0/laser_0',
+            '/robot0/sonar_0'} <= topics
     assert count == summary.statistics.message_count
     assert f'{bag}: {count} messages of' in stderr
+    metadata = yaml.safe_load(rosbag2['serialized_metadata'])
+    assert metadata['ros_distro'] == os.environ.get('ROS_DISTRO', 'jazzy')
+    assert metadata['message_count'] == count
+    assert {topic['topic_metadata']['name']: topic['message_count']
+            for topic in metadata['topics_with_message_count']} == {
+        summary.channels[channel].topic: messages
+        for channel, messages in summary.statistics.channel_message_counts.items()}
+    # Each message's publish time is when it was sent, before it was received (both wall time).
+    assert all(0 < delay < 5 * 10 ** 9 for delay in delays)
 
 
 def test_a_killed_recording_keeps_its_chunks(recording):

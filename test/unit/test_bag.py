@@ -8,7 +8,7 @@ from mcap.stream_reader import StreamReader
 import pytest
 from rosbags.highlevel import AnyReader
 from simple_robot_control.bag import (BagError, BagWriter, CHUNK_SIZE, INFINITE,
-                                      message_definition, qos_yaml, type_hash)
+                                      message_definition, qos_yaml, ROSBAG2_METADATA, type_hash)
 from simple_robot_control.bag_reading import BagMessages
 import yaml
 
@@ -34,7 +34,7 @@ def test_the_channel_holds_what_rosbag2s_mcap_storage_reads(tmp_path):
         reader = make_reader(stream)
         summary = reader.get_summary()
         header = reader.get_header()
-    assert header.profile == 'ros2'
+    assert (header.profile, header.library) == ('ros2', 'libmcap 1.3.0')
     (channel,) = summary.channels.values()
     schema = summary.schemas[channel.schema_id]
     assert (channel.topic, channel.message_encoding) == ('/robot_status', 'cdr')
@@ -50,6 +50,43 @@ def test_the_channel_holds_what_rosbag2s_mcap_storage_reads(tmp_path):
     assert profile['deadline'] == {'sec': 9223372036, 'nsec': 854775807}
     assert summary.statistics.message_count == 3
     assert summary.statistics.channel_message_counts == {channel.id: 3}
+
+
+def rosbag2_records(path):
+    """Return the bag's rosbag2 metadata records, each parsed as rosbag2's YAML, in file order."""
+    with open(path, 'rb') as stream:
+        return [yaml.safe_load(record.metadata['serialized_metadata'])
+                for record in make_reader(stream).iter_metadata()
+                if record.name == ROSBAG2_METADATA]
+
+
+def test_rosbag2s_metadata_record_is_written_at_the_start_and_the_end(tmp_path, monkeypatch):
+    monkeypatch.delenv('ROS_DISTRO', raising=False)
+    write_bag(tmp_path / 'run.mcap').close()
+    opening, closing = rosbag2_records(tmp_path / 'run.mcap')
+    assert (opening['message_count'], opening['topics_with_message_count']) == (0, [])
+    assert opening['starting_time'] == {'nanoseconds_since_epoch': 2 ** 63 - 1}
+    assert closing['version'] == 9 and closing['ros_distro'] == 'jazzy'
+    assert closing['storage_identifier'] == 'mcap'
+    assert closing['message_count'] == 3
+    assert closing['starting_time'] == {'nanoseconds_since_epoch': 1_000_000_000}
+    assert closing['duration'] == {'nanoseconds': 2}
+    assert closing['relative_file_paths'] == ['run.mcap']
+    assert closing['files'] == [{'path': 'run.mcap', 'message_count': 3,
+                                 'starting_time': {'nanoseconds_since_epoch': 1_000_000_000},
+                                 'duration': {'nanoseconds': 2}}]
+    (topic,) = closing['topics_with_message_count']
+    assert topic == {'message_count': 3, 'topic_metadata': {
+        'name': '/robot_status', 'type': 'std_msgs/msg/String', 'serialization_format': 'cdr',
+        'offered_qos_profiles': [LATCHED],
+        'type_description_hash': type_hash('std_msgs/msg/String')}}
+    assert closing['custom_data']['writer'].startswith('simple_robot_control ')
+
+
+def test_the_ros_distro_is_the_environments_where_set(tmp_path, monkeypatch):
+    monkeypatch.setenv('ROS_DISTRO', 'rolling')
+    write_bag(tmp_path / 'run.mcap').close()
+    assert rosbag2_records(tmp_path / 'run.mcap')[-1]['ros_distro'] == 'rolling'
 
 
 def test_rosbags_reads_every_message_in_order_with_its_qos(tmp_path):

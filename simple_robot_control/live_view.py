@@ -1,0 +1,342 @@
+"""
+A run's topics served live to Foxglove over its WebSocket protocol, on one port.
+
+Foxglove's own server library (foxglove-sdk) speaks the protocol. This follows the graph as the
+bag recorder does and offers every topic matching the patterns as a channel with the ros2msg
+schema the bag writer writes (bag.message_definition) and the CDR bytes as they come off the
+wire: the file and the socket carry the same thing. A topic is subscribed in ROS only while a
+client subscribes to its channel (Foxglove asks for what its panels show), so what nobody
+watches costs nothing. A transient-local topic (the map, /tf_static, the course) keeps its last
+messages for a client that subscribes once it is subscribed already, as ROS gives them to a late
+subscriber. A topic with no publisher left (a deleted robot's) is withdrawn; hidden topics (an
+action's, as `ros2 topic list` hides them) are not offered.
+
+Clients may publish (Foxglove's Teleop panel) on topics matching the command patterns only, as
+geometry_msgs Twist or TwistStamped in CDR; any other advertisement is refused with a status
+the client shows and a log line, and so is a message that is malformed, oversized or not
+finite. The SDK keeps at most BACKLOG messages for each client and drops the oldest when one
+falls behind, so a slow or vanished client never holds up the node, let alone the simulator.
+
+The SDK calls the listener from its own threads: those only note what changed, under a lock,
+and a timer of the node's acts on it within WORK_PERIOD (rclpy's EventsExecutor takes no guard
+condition): everything ROS is done by the node's executor.
+"""
+
+from collections import Counter, deque
+from fnmatch import fnmatchcase
+import ipaddress
+import logging
+import math
+import re
+import threading
+import time
+
+import foxglove
+from foxglove.websocket import Capability, StatusLevel
+from geometry_msgs.msg import Twist, TwistStamped
+from rclpy.clock import Clock, ClockType
+from rclpy.serialization import deserialize_message
+from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
+from simple_robot_control.bag import BagError, message_definition
+from simple_robot_control.bag_recording import message_class, subscription_qos
+from simple_robot_control.node_runtime import ConfigError
+
+GRAPH_PERIOD = 0.5
+# How soon a client's subscription or command is acted on (s).
+WORK_PERIOD = 0.02
+# Messages queued for each client before the oldest are dropped (the SDK's default).
+BACKLOG = 1024
+# A Twist is 52 bytes in CDR, a TwistStamped with a long frame id a few hundred.
+MAX_COMMAND_BYTES = 1024
+# Commands waiting for the executor; a flood beyond this loses its oldest.
+INBOX = 256
+# Messages of a transient-local topic kept for clients that subscribe later.
+KEEP = 100
+COMMAND_TYPES = {'geometry_msgs/msg/Twist': Twist, 'geometry_msgs/Twist': Twist,
+                 'geometry_msgs/msg/TwistStamped': TwistStamped,
+                 'geometry_msgs/TwistStamped': TwistStamped}
+# A line of the SDK's (a client's bad frame, a full outbox) is repeated at most this often.
+REPEAT_AFTER = 10.0
+
+
+class _Topic:
+    """A ROS topic offered as a channel: subscribed while watched, its latched messages kept."""
+
+    def __init__(self, channel, kind, qos, latched):
+        self.channel = channel
+        self.kind = kind
+        self.qos = qos
+        self.kept = deque(maxlen=min(qos.depth, KEEP)) if latched else None
+        self.subscription = None
+
+
+class LiveView:
+    """
+    Serves the topics matching patterns to Foxglove clients on host:port, on behalf of node.
+
+    Clients may publish on the topics matching commands (see the module's docstring); each
+    client gets at most backlog messages queued.
+    """
+
+    def __init__(self, node, patterns, host='127.0.0.1', port=8765, commands=('*/cmd_vel',),
+                 backlog=BACKLOG):
+        self._node = node
+        self._patterns = tuple(patterns)
+        self._commands = tuple(commands)
+        self._context = foxglove.Context()
+        self._topics, self._by_channel, self._skipped = {}, {}, set()
+        self._lock = threading.Lock()
+        # Written by the SDK's threads, read by the executor, under the lock.
+        self._watchers, self._replays = Counter(), set()
+        self._accepted, self._refused = {}, set()
+        self._inbox = deque(maxlen=INBOX)
+        self._publishers = {}
+        self._log = _SdkLog(node.get_logger(), backlog)
+        self._changed = True
+        try:
+            self.server = foxglove.start_server(
+                name=node.get_fully_qualified_name(), host=host, port=port,
+                capabilities=[Capability.ClientPublish], supported_encodings=['cdr'],
+                server_listener=_Listener(self), context=self._context,
+                message_backlog_size=backlog)
+        except RuntimeError as error:
+            raise ConfigError(f'cannot serve Foxglove on {host}:{port}: {error}') from None
+        self.port = self.server.port
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        node.create_timer(GRAPH_PERIOD, self._follow_graph, clock=steady)
+        node.create_timer(WORK_PERIOD, self._work, clock=steady)
+        self._follow_graph()
+
+    @property
+    def topics(self):
+        """Return the topics offered to clients."""
+        return sorted(self._topics)
+
+    def _follow_graph(self):
+        node = self._node
+        present = set()
+        for topic, types in node.get_topic_names_and_types():
+            if topic_or_service_is_hidden(topic) or not any(
+                    fnmatchcase(topic, pattern) for pattern in self._patterns):
+                continue
+            publishers = node.get_publishers_info_by_topic(topic)
+            if not publishers:
+                continue
+            present.add(topic)
+            if topic not in self._topics and topic not in self._skipped:
+                self._offer(topic, types, publishers)
+        for topic in set(self._topics) - present:
+            self._withdraw(topic)
+        self._changed = True
+
+    def _offer(self, topic, types, publishers):
+        kind = message_class(types[0]) if len(types) == 1 else None
+        try:
+            if kind is None:
+                raise BagError(f'its type {" or ".join(types)} is not installed or not one type')
+            schema = foxglove.Schema(name=types[0], encoding='ros2msg',
+                                     data=message_definition(types[0]).encode())
+        except BagError as error:
+            self._skipped.add(topic)
+            self._node.get_logger().warn(f'{topic}: not offered to Foxglove: {error}')
+            return
+        qos, latched = subscription_qos([info.qos_profile for info in publishers])
+        channel = foxglove.Channel(topic, schema=schema, message_encoding='cdr',
+                                   context=self._context)
+        self._topics[topic] = _Topic(channel, kind, qos, latched)
+        self._by_channel[channel.id()] = topic
+
+    def _withdraw(self, topic):
+        entry = self._topics.pop(topic)
+        del self._by_channel[entry.channel.id()]
+        if entry.subscription is not None:
+            self._node.destroy_subscription(entry.subscription)
+        entry.channel.close()
+
+    def _work(self):
+        """Subscribe what clients watch, replay kept messages, publish the commands received."""
+        if not self._changed:
+            return
+        with self._lock:
+            self._changed = False
+            watched = {channel for channel, count in self._watchers.items() if count > 0}
+            replays, self._replays = self._replays, set()
+            commands = list(self._inbox)
+            self._inbox.clear()
+        for channel_id, topic in self._by_channel.items():
+            entry = self._topics[topic]
+            if channel_id in watched and entry.subscription is None:
+                # A new subscription gets a transient-local topic's history from ROS itself.
+                entry.subscription = self._node.create_subscription(
+                    entry.kind, topic, self._forwarder(entry), entry.qos, raw=True)
+            elif channel_id not in watched and entry.subscription is not None:
+                self._node.destroy_subscription(entry.subscription)
+                entry.subscription = None
+                if entry.kept is not None:
+                    entry.kept.clear()
+            elif channel_id in replays and entry.kept:
+                for data in list(entry.kept):
+                    entry.channel.log(data)
+        for key, data in commands:
+            self._publish(key, data)
+
+    def _forwarder(self, entry):
+        def forward(data):
+            if entry.kept is not None:
+                entry.kept.append(data)
+            entry.channel.log(data)
+        return forward
+
+    def _publish(self, key, data):
+        topic, kind = self._accepted.get(key, (None, None))
+        if topic is None:
+            return  # the client took its channel back while the message waited
+        try:
+            message = deserialize_message(data, kind)
+        except Exception:  # noqa: B902  rclpy raises its RMWError, or others, on bad CDR
+            self._refuse_once(key, 'malformed', f'a message on {topic} that is no '
+                              f'{kind.__name__} in CDR')
+            return
+        twist = message.twist if kind is TwistStamped else message
+        values = (twist.linear.x, twist.linear.y, twist.linear.z,
+                  twist.angular.x, twist.angular.y, twist.angular.z)
+        if not all(map(math.isfinite, values)):
+            self._refuse_once(key, 'not finite', f'a command on {topic} that is not finite')
+            return
+        publisher = self._publishers.get((topic, kind))
+        if publisher is None:
+            publisher = self._publishers[topic, kind] = self._node.create_publisher(
+                kind, topic, 10)
+        publisher.publish(message)
+
+    def _refuse_once(self, key, kind, what):
+        """Log one line for the first message of a kind that a client channel has dropped."""
+        if (key, kind) not in self._refused:
+            self._refused.add((key, kind))
+            self._node.get_logger().warn(f'Foxglove client {key[0]}: dropped {what} (and '
+                                         'any more like it)')
+
+    # Called by the SDK's threads (see _Listener): they note, the executor acts.
+
+    def watched(self, channel_id, change):
+        with self._lock:
+            self._watchers[channel_id] += change
+            if change > 0:
+                self._replays.add(channel_id)
+            self._changed = True
+
+    def advertised(self, client, channel):
+        problem = self._command_problem(channel)
+        if problem is None:
+            self._accepted[client.id, channel.id] = (channel.topic,
+                                                     COMMAND_TYPES[channel.schema_name])
+            return
+        text = f'Foxglove client {client.id}: cannot publish on {channel.topic}: {problem}'
+        self.server.publish_status(text, StatusLevel.Error)
+        self._node.get_logger().warn(text)
+
+    def _command_problem(self, channel):
+        if not any(fnmatchcase(channel.topic, pattern) for pattern in self._commands):
+            return f'only {", ".join(self._commands)} take messages from Foxglove'
+        if channel.schema_name not in COMMAND_TYPES:
+            return f'{channel.schema_name} is no geometry_msgs/msg/Twist or TwistStamped'
+        if channel.encoding != 'cdr':
+            return f'its encoding {channel.encoding} is not cdr'
+        return None
+
+    def unadvertised(self, client, channel_id):
+        self._accepted.pop((client.id, channel_id), None)
+
+    def received(self, client, channel_id, data):
+        key = (client.id, channel_id)
+        if key not in self._accepted:
+            self._refuse_once(key, 'refused', 'a message on a channel it may not publish on')
+        elif len(data) > MAX_COMMAND_BYTES:
+            self._refuse_once(key, 'oversized', f'a message of {len(data)} bytes (at most '
+                              f'{MAX_COMMAND_BYTES})')
+        else:
+            with self._lock:
+                self._inbox.append((key, bytes(data)))
+                self._changed = True
+
+    def close(self):
+        """Stop serving: clients are disconnected."""
+        self.server.stop()
+        self._log.close()
+
+
+class _SdkLog(logging.Handler):
+    """
+    The SDK's log lines (it logs through Python's logging) as the node's, each seldom.
+
+    A client's malformed frame or unknown channel id, a full outbox: the SDK answers the client
+    and logs a line each time; a flood of them becomes a line every REPEAT_AFTER seconds.
+    """
+
+    def __init__(self, logger, backlog):
+        super().__init__(logging.INFO)
+        self._ros = logger
+        self._backlog = backlog
+        self._said = {}
+        self._sdk = logging.getLogger('foxglove')
+        self._sdk.setLevel(logging.INFO)
+        self._sdk.propagate = False
+        self._sdk.addHandler(self)
+
+    def emit(self, record):
+        text = record.getMessage()
+        if record.levelno < logging.WARNING and 'outbox' not in text:
+            return
+        kind = re.sub(r'\d+', '#', text)[:80]
+        now = time.monotonic()
+        if now - self._said.get(kind, -REPEAT_AFTER) < REPEAT_AFTER:
+            return
+        self._said[kind] = now
+        if 'outbox' in text:
+            text += (f': a client is falling behind, its oldest messages are dropped (at most '
+                     f'{self._backlog} wait)')
+        self._ros.warn(f'Foxglove: {text}')
+
+    def close(self):
+        self._sdk.removeHandler(self)
+        super().close()
+
+
+class _Listener(foxglove.websocket.ServerListener):
+    """The SDK's view of a LiveView."""
+
+    def __init__(self, view):
+        self._view = view
+
+    def on_subscribe(self, client, channel):
+        self._view.watched(channel.id, +1)
+
+    def on_unsubscribe(self, client, channel):
+        self._view.watched(channel.id, -1)
+
+    def on_client_advertise(self, client, channel):
+        self._view.advertised(client, channel)
+
+    def on_client_unadvertise(self, client, client_channel_id):
+        self._view.unadvertised(client, client_channel_id)
+
+    def on_message_data(self, client, client_channel_id, data):
+        self._view.received(client, client_channel_id, data)
+
+
+def is_loopback(host: str) -> bool:
+    """Whether host names this machine's loopback (localhost, 127.0.0.0/8, ::1)."""
+    if host == 'localhost':
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def exposure_line(host: str, port: int) -> str | None:
+    """Return the line warning that host:port is open to the network, or None for loopback."""
+    if is_loopback(host):
+        return None
+    return (f'Foxglove is served on {host}:{port}: open to the network, with no authentication; '
+            'anyone who reaches this port may watch the run and drive the robots')
