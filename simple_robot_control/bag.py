@@ -197,11 +197,17 @@ class BagWriter:
             self._guarded(self._stream.close)
 
     def _write_rosbag2_metadata(self):
-        """Write rosbag2's metadata record, as its MCAP storage does at a bag's start and end."""
-        self.add_metadata(ROSBAG2_METADATA, {'serialized_metadata': yaml.safe_dump(
-            rosbag2_metadata(self.path.name, self._first_ns, self._last_ns, [
-                (*self._topics[channel], count) for channel, count in self._counts.items()]),
-            sort_keys=False)})
+        """
+        Write rosbag2's metadata record, as its MCAP storage does at a bag's start and end.
+
+        Jazzy's holds the serialised metadata alone; Humble's held ROS_DISTRO beside it, and
+        Jazzy's reader still takes that key, so both are written.
+        """
+        metadata = rosbag2_metadata(self.path.name, self._first_ns, self._last_ns, [
+            (*self._topics[channel], count) for channel, count in self._counts.items()])
+        self.add_metadata(ROSBAG2_METADATA, {
+            'serialized_metadata': yaml.safe_dump(metadata, sort_keys=False),
+            'ROS_DISTRO': metadata['ros_distro']})
 
 
 def rosbag2_metadata(file_name: str, first_ns: int | None, last_ns: int | None,

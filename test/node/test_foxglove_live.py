@@ -9,16 +9,19 @@ from nav_msgs.msg import OccupancyGrid, Odometry
 import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message, serialize_message
-from ros_helpers import simulator_and_client, spin_until
+from ros_helpers import pose_stamped, ServiceCaller, simulator_and_client, spin_until
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.bag import message_definition
 from simple_robot_control.foxglove_live import FoxgloveLive
+from simulation_interfaces.msg import Result
+from simulation_interfaces.srv import DeleteEntity, SpawnEntity
 from std_msgs.msg import String
 
 LATCHED = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 RUN = ('/map', '/robot0/odom', '/robot0/laser_0', '/robot_status', '/tf_static')
+OK = Result.RESULT_OK
 
 
 @pytest.fixture
@@ -196,3 +199,25 @@ def test_a_slow_then_vanished_client_never_holds_the_simulator_up(start_live, ex
     received(executor, healthy, ['/robot0/odom'], count=10, what='a new client served')
     healthy.close()
     assert 'Traceback' not in capfd.readouterr().err
+
+
+def test_spawned_robots_appear_and_deleted_ones_go(live, executor):
+    _, sim_client, node = live
+    call = ServiceCaller(executor, sim_client)
+    client = connected(executor, node)
+    answer = call(SpawnEntity, 'spawn_entity', name='scout', uri='lab_robot',
+                  initial_pose=pose_stamped(5.0, 5.0, 0.5))
+    assert answer.result.result == OK
+
+    def offered(topics, present=True):
+        def check():
+            client.poll()
+            return all((topic in client.channels) == present for topic in topics)
+        return check
+    scout = ('/scout/odom', '/scout/laser_0', '/scout/sonar_0')
+    spin_until(executor, offered(scout), timeout=20.0, what='the spawned robot offered')
+    assert call(DeleteEntity, 'delete_entity', entity='scout').result.result == OK
+    spin_until(executor, offered(scout, present=False), timeout=20.0,
+               what='the deleted robot withdrawn')
+    assert '/robot0/odom' in client.channels
+    client.close()

@@ -10,12 +10,14 @@ import sys
 import time
 
 from foxglove_client import FoxgloveClient
+from mcap.reader import make_reader
 from processes import run, start_logged, stop, wait_for_text, wait_until
 import pytest
 from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 from simple_robot_control.live_view import exposure_line
 from std_msgs.msg import String
+import yaml
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 
@@ -166,4 +168,12 @@ def test_the_demo_with_foxglove_prints_the_line_and_streams_the_run(tmp_path):
     finally:
         demo.kill()
     assert demo.returncode == 0, output
-    assert (tmp_path / 'run.mcap').exists() and 'Traceback' not in output
+    assert 'Traceback' not in output
+    # The demo's bag shows the robot's sensors, and ros2 bag info's ROS Distro.
+    with open(tmp_path / 'run.mcap', 'rb') as stream:
+        reader = make_reader(stream)
+        topics = {channel.topic for channel in reader.get_summary().channels.values()}
+        (rosbag2, *_) = [record.metadata for record in reversed(list(reader.iter_metadata()))
+                         if record.name == 'rosbag2']
+    assert {'/robot0/laser_0', '/robot0/sonar_0', '/robot0/sonar_4', '/robot_status'} <= topics
+    assert yaml.safe_load(rosbag2['serialized_metadata'])['ros_distro'] == 'jazzy'

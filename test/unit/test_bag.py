@@ -87,6 +87,9 @@ def test_the_ros_distro_is_the_environments_where_set(tmp_path, monkeypatch):
     monkeypatch.setenv('ROS_DISTRO', 'rolling')
     write_bag(tmp_path / 'run.mcap').close()
     assert rosbag2_records(tmp_path / 'run.mcap')[-1]['ros_distro'] == 'rolling'
+    with open(tmp_path / 'run.mcap', 'rb') as stream:
+        records = [record.metadata for record in make_reader(stream).iter_metadata()]
+    assert {record['ROS_DISTRO'] for record in records} == {'rolling'}
 
 
 def test_rosbags_reads_every_message_in_order_with_its_qos(tmp_path):

@@ -3,7 +3,9 @@
 import json
 from pathlib import Path
 
-from waypoint_lab.foxglove_layout import lab_layout, layout_text
+from stdr_lite.core.loading import robot_file
+from stdr_lite.core.robot_description import load_robot
+from waypoint_lab.foxglove_layout import lab_layout, LASERS, layout_text, SONARS
 
 BUNDLED = Path(__file__).resolve().parents[2] / 'config' / 'foxglove_lab_layout.json'
 
@@ -29,3 +31,11 @@ def test_the_layout_shows_the_lab_and_drives_its_robot():
     assert {'/map', '/waypoints', '/robot0/laser_0'} <= set(by_type['ThreeDee']['topics'])
     assert by_type['RawMessages']['topicPath'] == '/robot_status.data'
     assert by_type['Teleop']['topic'] == '/robot0/cmd_vel'
+    assert [series['value'] for series in by_type['Plot']['paths']] == [
+        f'/robot0/sonar_{index}.range' for index in range(5)]
+
+
+def test_the_layouts_sensors_are_the_lab_robots():
+    description = load_robot(robot_file('lab_robot'))
+    assert LASERS == tuple(laser.frame_id for laser in description.lasers)
+    assert SONARS == tuple(sonar.frame_id for sonar in description.sonars)

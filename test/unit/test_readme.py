@@ -4,6 +4,7 @@ from pathlib import Path
 import re
 
 import pytest
+from simple_robot_control import foxglove_live
 from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot
 from stdr_lite.node import stdr_lite
@@ -18,7 +19,7 @@ DOCUMENTATION = '\n'.join(path.read_text() for path in PAGES)
 
 
 @pytest.mark.parametrize('module', [stdr_lite, move_robot, waypoint_controller, course_monitor,
-                                    stdr_viewer, record_run])
+                                    stdr_viewer, record_run, foxglove_live])
 def test_every_parameter_has_a_row_in_the_documentation(module):
     missing = [spec.name for spec in module.PARAMETERS
                if f'| `{spec.name}` |' not in DOCUMENTATION]
