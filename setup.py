@@ -39,7 +39,7 @@ setup(
     python_requires='>=3.10',
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
                       'pygame', 'regex', 'mcap', 'rosbags', 'psutil', 'numba', 'gymnasium',
-                      'foxglove-sdk>=0.30'],
+                      'foxglove-sdk>=0.30', 'pettingzoo'],
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

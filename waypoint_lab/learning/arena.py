@@ -1,11 +1,12 @@
 """
-Robots driving courses in one stdr_lite world: what a single environment and a vector share.
+Robots driving courses in one stdr_lite world: what every environment of the task shares.
 
 The world is the simulator's own (load_world), stepped as the node steps it; each robot
 carries the robot file's first laser, with the task's number of rays over the same span and
 range, and nothing else the observation does not use. Robots that do not meet pass through
 each other unseen, so each drives its course as if alone: a vector of them is a vector of
-independent episodes, computed together. No ROS here.
+independent episodes, computed together. Robots that meet see each other with their lasers and
+cannot pass through each other; each starts clear of the others. No ROS here.
 """
 
 from dataclasses import replace
@@ -14,6 +15,7 @@ import numpy as np
 from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
+from stdr_lite.core.world import PlacementError
 from waypoint_lab.course import START
 from waypoint_lab.learning.task import Courses, observe, sample_course, TaskSettings
 
@@ -37,14 +39,17 @@ class Arena:
 
     def __init__(self, count: int, task: TaskSettings = TaskSettings(), map_name: str = '',
                  robot: str = '', rate_hz: float = 10.0, sensor_noise: bool = True,
-                 bodies_meet: bool = True):
+                 bodies_meet: bool = True, starts=None):
         self.task = task
+        self.bodies_meet = bodies_meet
         description = laser_robot(robot, task.laser_rays)
         settings = SimulationSettings(rate_hz=rate_hz,
                                       sensor_noise='auto' if sensor_noise else 'none',
                                       bodies_meet=bodies_meet)
-        self.simulation = load_world(map_name, [RobotEntry(f'robot{index}', description, START)
-                                                for index in range(count)], settings)
+        starts = [START] * count if starts is None else starts
+        self.simulation = load_world(map_name, [
+            RobotEntry(f'robot{index}', description, tuple(start))
+            for index, start in enumerate(starts)], settings)
         self.names = self.simulation.robot_names
         # The laser as the world reads it: without its noise where none is applied.
         self.laser = self.simulation.robot(self.names[0]).sensors[0].spec
@@ -67,21 +72,38 @@ class Arena:
         return (0.0 <= map_x < extent_x and 0.0 <= map_y < extent_y
                 and not self.simulation.world.checker.touches(x, y, self._clearance))
 
+    def _clear_of_others(self, robot: int):
+        """Return is_free for robot's start: clear of walls and, if bodies meet, other robots."""
+        others = np.delete(self.poses[:, :2], robot, axis=0) if self.bodies_meet else None
+
+        def free(x, y):
+            return self.is_free(x, y) and (
+                others is None or not len(others)
+                or np.hypot(others[:, 0] - x, others[:, 1] - y).min() > 2 * self._clearance)
+        return free
+
     def restart(self, robot: int, rng: np.random.Generator, options: dict | None = None):
-        """Put a robot at a new start with a new course: from rng, unless options give them."""
+        """
+        Put a robot at a new start with a new course: from rng, unless options give them.
+
+        A start given that the robot cannot take (a wall, another robot) raises ValueError.
+        """
         options = options or {}
         start = options.get('start')
         if start is None:
             start = START
             if self.task.random_start:
-                start = sample_course(rng, self.is_free, START, replace(
+                start = sample_course(rng, self._clear_of_others(robot), START, replace(
                     self.task, waypoints=1, course_step=20.0))[0]
         start = np.asarray(start, dtype=float)
         waypoints = options.get('waypoints')
         waypoints = (sample_course(rng, self.is_free, start, self.task) if waypoints is None
                      else np.asarray(waypoints, dtype=float).reshape(-1, 3))
         name = self.names[robot]
-        self.simulation.teleport(name, tuple(start))
+        try:
+            self.simulation.teleport(name, tuple(start))
+        except PlacementError as error:
+            raise ValueError(f'{name} cannot start at {tuple(start)}: {error}') from None
         self.simulation.command(name, 0.0, 0.0)
         self._poses = None
         self.courses.restart(robot, waypoints, start)

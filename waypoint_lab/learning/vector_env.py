@@ -5,7 +5,10 @@ One step moves every robot (one world step, every laser cast in one call); the r
 meet, so sub-environment i behaves exactly as a WaypointsEnv would, seeded with seed + i (as
 Gymnasium's vector environments seed theirs). Episodes reset themselves on the step after they
 end (Gymnasium's next-step autoreset): that step's action is ignored for them, and they
-return their first observation with no reward.
+return their first observation with no reward. With autoreset_mode SAME_STEP (what
+Stable-Baselines3 expects) an episode that ends is reset in the same step: it returns the new
+episode's first observation, and info['final_obs'] and info['final_info'] hold the last
+one's (masked by info['_final_obs']), as Gymnasium defines.
 """
 
 import math
@@ -38,7 +41,8 @@ class WaypointsVectorEnv(VectorEnv):
                  laser_rays=64, max_linear_speed=MAX_LINEAR_SPEED,
                  max_angular_speed=MAX_ANGULAR_SPEED, map_name='', robot='',
                  rate_hz=10.0, random_start=True, sensor_noise=True,
-                 max_episode_steps=MAX_EPISODE_STEPS, render_mode=None):
+                 max_episode_steps=MAX_EPISODE_STEPS, render_mode=None,
+                 autoreset_mode=AutoresetMode.NEXT_STEP):
         self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
                                  laser_rays, max_linear_speed, max_angular_speed,
                                  random_start=random_start)
@@ -49,6 +53,11 @@ class WaypointsVectorEnv(VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.render_mode = render_mode
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        if self.autoreset_mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+            raise ValueError(f'autoreset_mode must be NEXT_STEP or SAME_STEP, got '
+                             f'{self.autoreset_mode}')
+        self.metadata = {**self.metadata, 'autoreset_mode': self.autoreset_mode}
         self.max_episode_steps = max_episode_steps
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._ended = np.zeros(num_envs, dtype=bool)
@@ -85,8 +94,26 @@ class WaypointsVectorEnv(VectorEnv):
         reward[restarting] = 0.0
         finished[restarting] = truncated[restarting] = False
         self._ended = finished | truncated
-        return (self.arena.observations(), reward, finished, truncated,
-                self._infos(reached & ~restarting))
+        infos = self._infos(reached & ~restarting)
+        observations = self.arena.observations()
+        if self.autoreset_mode is AutoresetMode.SAME_STEP and self._ended.any():
+            observations, infos = self._reset_ended(observations, infos)
+        return observations, reward, finished, truncated, infos
+
+    def _reset_ended(self, observations, infos):
+        """Start anew the episodes that ended; return the observations and infos that say so."""
+        ended = self._ended
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        for robot in np.flatnonzero(ended):
+            final_obs[robot] = observations[robot].copy()
+            self._generators[robot].integers(2 ** 31)
+            self.arena.restart(robot, self._generators[robot])
+        self._steps[ended] = 0
+        self._ended = np.zeros(self.num_envs, dtype=bool)
+        fresh = self._infos(infos['reached'] & ~ended)
+        fresh.update({'final_obs': final_obs, '_final_obs': ended.copy(),
+                      'final_info': infos, '_final_info': ended.copy()})
+        return self.arena.observations(), fresh
 
     def _infos(self, reached=None):
         reached = np.zeros(self.num_envs, dtype=bool) if reached is None else reached
