@@ -13,8 +13,12 @@ export ROS_DOMAIN_ID ?= $(shell shuf -i 1-100 -n 1)
 # Peers found within about half a second rather than up to 3 s (see the file).
 export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discovery.xml)
 
+# What is kept across clones: the interface builds, the training venv (see scripts/).
+CACHE_DIR := $(or $(SIMPLE_ROBOT_CONTROL_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/simple_robot_control)
+TRAIN_VENV := $(CACHE_DIR)/train-venv
+
 .PHONY: demo lab-session swarm grade test test-quick test-unit test-node test-system check-stdr \
-	bench install clean clean-cache
+	bench train demo-policy install clean clean-cache
 
 demo: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/demo.sh
@@ -38,6 +42,27 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.requests
 	$(PYTHON) -m bench.recorder
 	$(PYTHON) -m bench.learning
+
+# A policy learned end to end: PPO (Stable-Baselines3, torch on the CPU) trains on the lab's
+# task for TRAIN_MINUTES in a venv of its own beside the interface builds (torch and SB3 never
+# enter .venv), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200
+# held-out courses, then grade_lab grades it driving the bundled courses through ROS (not in
+# lockstep: the policy acts at its own 10 Hz, on the simulator's clock).
+TRAIN_MINUTES ?= 15
+train: install
+	test -x "$(TRAIN_VENV)/bin/python" || python3 -m venv "$(TRAIN_VENV)"
+	rm -rf build
+	"$(TRAIN_VENV)/bin/python" -m pip install --quiet --disable-pip-version-check torch==2.13.0 \
+		stable-baselines3 . 2> >(grep -v 'is ignored' >&2)
+	cd / && "$(TRAIN_VENV)/bin/python" "$(CURDIR)/scripts/train_policy.py" \
+		--minutes $(TRAIN_MINUTES) --output "$(CURDIR)/waypoints_ppo.npz"
+	PATH="$(abspath $(VENV))/bin:$$PATH" grade_lab --courses waypoints --jobs 2 \
+		--real-time-factor 4 --report policy_report -- policy_controller {waypoints} \
+		--ros-args -p use_sim_time:=true -p policy:="$(CURDIR)/waypoints_ppo.npz"
+
+# The lab tour driven by the shipped policy (POLICY=waypoints_ppo.npz for one of make train's).
+demo-policy: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller LOCKSTEP=false scripts/demo.sh
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) -m pytest
@@ -84,6 +109,6 @@ clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache
 
 # The interface builds kept for other clones on this machine (scripts/build_interfaces.sh).
-INTERFACES_CACHE_DIR := $(or $(SIMPLE_ROBOT_CONTROL_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/simple_robot_control)/interfaces
+INTERFACES_CACHE_DIR := $(CACHE_DIR)/interfaces
 clean-cache:
 	rm -rf "$(INTERFACES_CACHE_DIR)"

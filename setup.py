@@ -11,7 +11,8 @@ PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 # Each is started by simple_robot_control/executables.py, which names its module.
 EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
-               'course_monitor', 'plot_run', 'record_run', 'foxglove_live', 'grade_lab')
+               'course_monitor', 'plot_run', 'record_run', 'foxglove_live', 'grade_lab',
+               'policy_controller')
 
 setup(
     name=PACKAGE_NAME,
@@ -40,6 +41,7 @@ setup(
     install_requires=['setuptools', 'numpy', 'PyYAML', 'Pillow', 'matplotlib', 'scipy', 'shapely',
                       'pygame', 'regex', 'mcap', 'rosbags', 'psutil', 'numba', 'gymnasium',
                       'foxglove-sdk>=0.30', 'pettingzoo'],
+    package_data={'waypoint_lab.learning': ['policies/*.npz']},
     zip_safe=True,
     maintainer='simple_robot_control maintainers',
     maintainer_email='maintainers@simple-robot-control.org',

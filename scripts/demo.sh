@@ -14,7 +14,10 @@ speed=${REAL_TIME_FACTOR:-4.0}
 record=${RECORD:-run.mcap}
 picture=${PICTURE:-run.png}
 
-stdr_lite --ros-args -p lockstep:=true -p real_time_factor:="$speed" --log-level warn &
+# LOCKSTEP=false for a controller that does not answer every step (policy_controller acts at
+# its own rate, on the simulator's clock).
+stdr_lite --ros-args -p lockstep:="${LOCKSTEP:-true}" -p real_time_factor:="$speed" \
+    --log-level warn &
 simulator=$!
 rm -f "$record"
 course_monitor "$course" --ros-args -p bag:="$record" --log-level warn &
@@ -49,7 +52,11 @@ fi
 trap 'kill -INT $simulator $monitor $viewer 2>/dev/null; wait $simulator $monitor $viewer 2>/dev/null || true' EXIT
 
 echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast as it goes):"
-waypoint_controller "$course" --ros-args --log-level warn &
+# CONTROLLER=policy_controller drives with a learned policy (POLICY: its file; the shipped one).
+policy=()
+[ -z "${POLICY:-}" ] || policy=(-p "policy:=$POLICY")
+[ "${CONTROLLER:-}" != policy_controller ] || policy+=(-p use_sim_time:=true)
+"${CONTROLLER:-waypoint_controller}" "$course" --ros-args --log-level warn "${policy[@]}" &
 controller=$!
 status=0
 wait -n -p ended $simulator $controller || status=$?

@@ -120,8 +120,9 @@ class BagRecording:
         matched; its channel says it was offered qos. With history (a transient-local profile),
         a second subscription asks transient-local publishers for what they sent before the
         match, and a message both bring (the same send time and bytes) is recorded once.
-        then(data, sent), if given, also gets each serialised message recorded and the wall
-        time it was sent at (nanoseconds; None without send_times).
+        then(data, sent), if given, also gets each serialised message, once it is recorded (or
+        the recording has stopped), and the wall time it was sent at (nanoseconds; None without
+        send_times).
         """
         try:
             channel = self.bag.add_topic(topic, type_name, [offered(qos)])
@@ -161,19 +162,18 @@ class BagRecording:
         clock = self._node.get_clock()
 
         def write(data, info=None):
-            if self._closed:
-                return
             sent = info and info['source_timestamp']
             if seen is not None:
                 if (sent, data) in seen:
                     return
                 seen.add((sent, data))
-            try:
-                self.bag.write(channel, clock.now().nanoseconds, data, sent)
-            except BagError as error:
-                self._stop(error)
-                return
-            self.received[topic] += 1
+            if not self._closed:
+                try:
+                    self.bag.write(channel, clock.now().nanoseconds, data, sent)
+                    self.received[topic] += 1
+                except BagError as error:
+                    self._stop(error)
+            # Once the recording has stopped (a full disk), then still gets every message.
             if then is not None:
                 then(data, sent)
 

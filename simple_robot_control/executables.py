@@ -27,6 +27,7 @@ MODULES = {
     'record_run': 'waypoint_lab.record_run',
     'foxglove_live': 'simple_robot_control.foxglove_live',
     'grade_lab': 'lab_grader.grade_lab',
+    'policy_controller': 'waypoint_lab.learning.policy_controller',
 }
 
 
@@ -78,3 +79,4 @@ plot_run = partial(start, 'plot_run')
 record_run = partial(start, 'record_run')
 foxglove_live = partial(start, 'foxglove_live')
 grade_lab = partial(start, 'grade_lab')
+policy_controller = partial(start, 'policy_controller')

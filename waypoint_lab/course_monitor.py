@@ -16,6 +16,7 @@ import time
 
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
+from rclpy.serialization import deserialize_message
 from rclpy.task import Future
 from rclpy.time import Time
 from simple_robot_control.bag_recording import BagRecording
@@ -71,9 +72,14 @@ class CourseMonitor(GuardedNode):
                           if params['bag'] else None)
         if self.recording is not None:
             # From the start, as the monitor hears them: a status is dated by what came before.
-            self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String',
-                                      status_qos(self._total))
-        self.create_subscription(String, STATUS_TOPIC, self._on_status, status_qos(self._total))
+            # The recording hands each status on once it is in the bag, so that the run's last
+            # status, which ends the monitor, is in the bag too.
+            self.recording.record_now(
+                f'/{STATUS_TOPIC}', 'std_msgs/msg/String', status_qos(self._total),
+                then=lambda data, sent: self._on_status(deserialize_message(data, String)))
+        else:
+            self.create_subscription(String, STATUS_TOPIC, self._on_status,
+                                     status_qos(self._total))
         self.create_subscription(Odometry, f'{params["robot_name"]}/odom', self._on_odometry,
                                  100)
         self.create_timer(PROGRESS_PERIOD, self._show_progress,

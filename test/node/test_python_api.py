@@ -100,9 +100,10 @@ def test_the_python_pages_examples_run_as_shown(tmp_path, monkeypatch):
     monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
     page = Path(__file__).resolve().parents[2] / 'doc' / 'python.md'
     blocks = re.findall(r'```python\n(.*?)```', page.read_text(), re.DOTALL)
-    assert len(blocks) == 4
+    assert len(blocks) == 5
     namespace = {}
     for block in blocks:
         exec(compile(block, str(page), 'exec'), namespace)
     assert namespace['observations'].shape == (100, 69)
+    assert sorted(namespace['seen']) == ['robot0', 'robot1', 'robot2', 'robot3']
     assert not namespace['rclpy'].ok()

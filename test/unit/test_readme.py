@@ -12,6 +12,7 @@ from stdr_lite.tools import move_robot
 from stdr_lite.viewer import stdr_viewer
 from waypoint_controller import waypoint_controller
 from waypoint_lab import course_monitor, record_run
+from waypoint_lab.learning import policy_controller
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PAGES = [REPOSITORY / 'README.md', *sorted(REPOSITORY.glob('doc/*.md'))]
@@ -19,7 +20,8 @@ DOCUMENTATION = '\n'.join(path.read_text() for path in PAGES)
 
 
 @pytest.mark.parametrize('module', [stdr_lite, move_robot, waypoint_controller, course_monitor,
-                                    stdr_viewer, record_run, foxglove_live])
+                                    stdr_viewer, record_run, foxglove_live,
+                                    policy_controller])
 def test_every_parameter_has_a_row_in_the_documentation(module):
     missing = [spec.name for spec in module.PARAMETERS
                if f'| `{spec.name}` |' not in DOCUMENTATION]

@@ -7,23 +7,43 @@ WaypointsEnv would give (task.observe), asks the policy (any callable: observati
 reports on robot_status as the lab asks (status.py's texts, interface.py's QoS), so that
 grade_lab can grade it as it grades a student's controller. The laser's rays are taken at the
 environment's angles (the nearest ray of the scan to each): a scan of the same rays gives the same
-observation to the bit.
+observation to the bit. As the executable policy_controller it drives with a trained policy
+file (numpy_policy.py; the bundled one by default) through a waypoint file, as
+waypoint_controller does.
 """
 
+import sys
+import time
+
 from geometry_msgs.msg import Twist
-from nav_msgs.msg import Odometry
+from nav_msgs.msg import Odometry, Path
 import numpy as np
 from rclpy.task import Future
 from sensor_msgs.msg import LaserScan
+from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME
 from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.parameters import declare_parameters, ParameterSpec
 from simple_robot_control.pose import pose_from_message
 from std_msgs.msg import String
 from stdr_lite.core.sensors import relative_angles
 from waypoint_lab import status
-from waypoint_lab.course import STATUS_TOPIC
-from waypoint_lab.interface import status_qos
+from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.interface import course_message, COURSE_PARAMETERS, load_course, status_qos
 from waypoint_lab.learning.arena import laser_robot
+from waypoint_lab.learning.numpy_policy import NumpyPolicy, PolicyFileError
 from waypoint_lab.learning.task import Courses, observe, TaskSettings
+from waypoint_lab.waypoints import Waypoint
+
+PARAMETERS = (
+    *(spec for spec in COURSE_PARAMETERS if spec.name in ('waypoint_file', 'robot_name')),
+    ParameterSpec('policy', '', 'the policy to drive with: an .npz file as scripts/'
+                  "train_policy.py writes it; '' is the bundled one, trained by make train"),
+)
+
+DESCRIPTION = ('policy_controller: drive a robot through a waypoint file with a learned policy '
+               '(run with numpy alone), reporting on robot_status as the lab asks, for '
+               'grade_lab as any controller.')
 
 
 def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
@@ -39,18 +59,30 @@ def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
 
 class PolicyController(GuardedNode):
     """
-    Drives robot_name through waypoints ((x, y, theta radians) each) with policy.
+    Drives the robot robot_name through waypoints ((x, y, theta radians) each) with policy.
 
-    The task (goal set, laser rays, speeds) must be the one the policy learned on; robot is
-    the robot file it learned with (its first laser's span and range are the observation's).
-    finished completes with 0 on FINISHED.
+    Without waypoints, they come from waypoint_file (or the parameter, or the bundled course);
+    without a policy, the policy parameter's file is run. The task (goal set, laser rays,
+    speeds) must be the one the policy learned on; robot is the robot file it learned with (its
+    first laser's span and range are the observation's). finished completes with 0 on FINISHED.
     """
 
-    def __init__(self, policy, waypoints, task: TaskSettings = TaskSettings(), robot: str = '',
-                 robot_name: str = 'robot0', laser: str = 'laser_0', rate_hz: float = 10.0,
-                 **kwargs):
+    def __init__(self, policy=None, waypoints=None, task: TaskSettings = TaskSettings(),
+                 robot: str = '', laser: str = 'laser_0', rate_hz: float = 10.0,
+                 waypoint_file: str | None = None, **kwargs):
         super().__init__('policy_controller', **kwargs)
         self.finished = Future()
+        self._alive_since = time.monotonic()
+        params = declare_parameters(self, PARAMETERS)
+        robot_name = params['robot_name']
+        if waypoints is None:
+            _, course = load_course(self, waypoint_file, params['waypoint_file'])
+            waypoints = [tuple(waypoint) for waypoint in course]
+        if policy is None:
+            try:
+                policy = NumpyPolicy(params['policy'] or None)
+            except PolicyFileError as error:
+                raise ConfigError(str(error)) from None
         self._policy, self._task = policy, task
         spec = laser_robot(robot, task.laser_rays).lasers[0]
         self._angles, self._max_range = relative_angles(spec), spec.max_range
@@ -60,6 +92,10 @@ class PolicyController(GuardedNode):
         self._command = self.create_publisher(Twist, f'{robot_name}/cmd_vel', 10)
         self._status = self.create_publisher(String, STATUS_TOPIC,
                                              status_qos(len(self._courses.waypoints[0])))
+        # The course, as the lab's controller publishes it (latched), for recorders and plots.
+        self._course = self.create_publisher(Path, COURSE_TOPIC, status_qos(0))
+        self._course.publish(course_message([Waypoint(*waypoint) for waypoint in waypoints],
+                                            'map'))
         self.create_subscription(Odometry, f'{robot_name}/odom', self._on_odometry, 10)
         self.create_subscription(LaserScan, f'{robot_name}/{laser}', self._on_scan, 10)
         self.create_timer(1.0 / rate_hz, self._act)
@@ -100,5 +136,18 @@ class PolicyController(GuardedNode):
         self._command.publish(twist)
 
     def shut_down(self):
-        """Stop the robot."""
+        """Stop the robot; let every reader of robot_status have the run's last words."""
         self._command.publish(Twist())
+        deliver_before_exit(self, self._status, self._alive_since, DISCOVERY_TIME)
+
+
+def main(argv=None):
+    parser = build_parser('policy_controller', DESCRIPTION, PARAMETERS)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='waypoint file; the waypoint_file parameter is the alternative')
+    sys.exit(run('policy_controller', parser,
+                 lambda options: PolicyController(waypoint_file=options.waypoint_file), argv))
+
+
+if __name__ == '__main__':
+    main()

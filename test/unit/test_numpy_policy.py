@@ -1,0 +1,45 @@
+"""The shipped policy runs with numpy alone, as the training library ran it."""
+
+import numpy as np
+import pytest
+from waypoint_lab.learning.numpy_policy import (bundled_policy_file, NumpyPolicy,
+                                                PolicyFileError, success_rate)
+from waypoint_lab.learning.waypoints_env import WaypointsEnv
+
+
+def test_the_numpy_runner_gives_the_actions_torch_gave():
+    policy = NumpyPolicy()
+    assert len(policy.check_observations) == 64
+    actions = policy(policy.check_observations)
+    np.testing.assert_allclose(actions, policy.check_actions, atol=1e-5)
+    # One observation alone gives the same action as in a batch.
+    np.testing.assert_allclose(policy(policy.check_observations[3]), actions[3], atol=1e-12)
+
+
+def test_the_policy_fits_the_tasks_spaces():
+    env = WaypointsEnv()
+    policy = NumpyPolicy()
+    assert policy.layers[0][0].shape[1] == env.observation_space.shape[0]
+    assert np.array_equal(policy.low, env.action_space.low)
+    assert np.array_equal(policy.high, env.action_space.high)
+    action = policy(env.reset(seed=0)[0])
+    assert env.action_space.contains(action.astype(np.float32))
+
+
+@pytest.mark.parametrize('content', [b'', b'not a zip', None])
+def test_a_file_that_is_no_policy_is_one_line(tmp_path, content):
+    path = tmp_path / 'policy.npz'
+    if content is None:
+        np.savez(path, weight0=np.zeros((2, 3)), bias0=np.zeros(5))
+    else:
+        path.write_bytes(content)
+    with pytest.raises(PolicyFileError, match=rf'^{path}: not a policy file: ') as refused:
+        NumpyPolicy(str(path))
+    assert '\n' not in str(refused.value)
+
+
+def test_success_is_the_share_of_courses_finished():
+    def stand_still(observations):
+        return np.zeros((len(observations), 2))
+    assert success_rate(stand_still, courses=4, max_episode_steps=20) == 0.0
+    assert bundled_policy_file().endswith('waypoints_ppo.npz')
