@@ -64,15 +64,22 @@ train: install
 demo-policy: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller LOCKSTEP=false scripts/demo.sh
 
+# In-process tests import the package from this tree: its ray caster is compiled into the tree's
+# numba cache first (as install does for the installed copy), not in the middle of a test.
+WARM_RAY_CASTER := -c 'import stdr_lite; stdr_lite.load_world().sensor_readings("robot0")'
+
 test: install $(VENV)/.test-dependencies
+	$(PYTHON) $(WARM_RAY_CASTER)
 	$(PYTHON) -m pytest
 
 # A developer's minute: the unit and node tiers on two workers (make test stays the whole suite).
 test-quick: install $(VENV)/.test-dependencies
+	$(PYTHON) $(WARM_RAY_CASTER)
 	$(PYTHON) -m pytest test/unit test/node
 
 # One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
 test-unit test-node test-system: install $(VENV)/.test-dependencies
+	$(PYTHON) $(WARM_RAY_CASTER)
 	$(PYTHON) -m pytest test/$(@:test-%=%)
 
 # STDR's own robot files load unchanged: STDR_RESOURCES=<stdr_simulator>/stdr_resources/resources
@@ -86,7 +93,7 @@ check-stdr: install $(VENV)/.test-dependencies
 install: $(VENV)/.dependencies $(VENV)/.interfaces
 	rm -rf build
 	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
-	cd / && $(abspath $(PYTHON)) -c 'import stdr_lite; stdr_lite.load_world().sensor_readings("robot0")'
+	cd / && $(abspath $(PYTHON)) $(WARM_RAY_CASTER)
 
 # Interface packages the PyPI wheels lack (tf2_msgs), built into the venv when they do not import.
 $(VENV)/.interfaces: $(VENV)/.dependencies scripts/build_interfaces.sh requirements/interfaces.txt $(shell find interfaces -type f)

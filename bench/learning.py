@@ -1,5 +1,5 @@
 """
-Steps per second of the Gymnasium environments, beside IR-SIM on the same scenario.
+Steps per second of the Gymnasium environments, beside IR-SIM and irsim-x on the same scenario.
 
 The scenario: the lab's room (20 m x 15 m, walls round it), the lab's robot (a 0.2 m disc,
 unicycle) with a 64-ray laser over +-120 degrees reaching 4.09 m, stepped at 10 Hz with a
@@ -7,8 +7,10 @@ random action each step, episodes starting again as they end. waypoint_lab/Waypo
 with gym.make (its wrappers included); the vector with 100 robots with gym.make_vec. IR-SIM
 (on PyPI as ir-sim, installed by this benchmark into a virtual environment of its own in the
 package's cache folder, never into ours) runs the same room as four wall rectangles and the same
-robot and laser, headless. Figures are the median of REPEATS runs of STEPS steps each, and
-the ratio is taken from those medians, measured one right after the other.
+robot and laser, headless; so does irsim-x (IR-SIM with its lidar, collisions and kinematics
+in C++; the same `irsim` module and API), in a venv of its own. Figures are the median of
+REPEATS runs of STEPS steps each, and the ratio is taken from those medians, measured one right
+after the other.
 """
 
 import argparse
@@ -30,9 +32,10 @@ ROBOTS = 100
 REPEATS = 5
 IRSIM_STEPS = 300
 # Beside the interface builds' cache (scripts/build_interfaces.sh), out of the work tree.
-IRSIM_VENV = Path(os.environ.get('SIMPLE_ROBOT_CONTROL_CACHE') or Path(
-    os.environ.get('XDG_CACHE_HOME') or Path.home() / '.cache') / 'simple_robot_control') / (
-    'irsim-venv')
+CACHE = Path(os.environ.get('SIMPLE_ROBOT_CONTROL_CACHE') or Path(
+    os.environ.get('XDG_CACHE_HOME') or Path.home() / '.cache') / 'simple_robot_control')
+# Each peer: (its name, its PyPI package, its venv in the cache).
+PEERS = (('IR-SIM', 'ir-sim', CACHE / 'irsim-venv'), ('irsim-x', 'irsim-x', CACHE / 'irsimx-venv'))
 IRSIM_WORLD = """
 world: {height: 15, width: 20, step_time: 0.1, sample_time: 0.1, offset: [0, 0],
         collision_mode: stop, control_mode: auto}
@@ -88,22 +91,22 @@ def vector_rate(env, rng, steps):
     return env.num_envs * steps / (time.perf_counter() - start)
 
 
-def irsim_rates():
-    """Return IR-SIM's steps per second (REPEATS runs), or None where it does not install."""
-    python = IRSIM_VENV / 'bin' / 'python'
+def peer_rates(name, package, venv):
+    """Return a peer's steps per second (REPEATS runs), or None where it does not install."""
+    python = venv / 'bin' / 'python'
     try:
         if not python.exists():
-            subprocess.run([sys.executable, '-m', 'venv', str(IRSIM_VENV)], check=True)
-            subprocess.run([str(python), '-m', 'pip', 'install', '--quiet', 'ir-sim'],
+            subprocess.run([sys.executable, '-m', 'venv', str(venv)], check=True)
+            subprocess.run([str(python), '-m', 'pip', 'install', '--quiet', package],
                            check=True, stderr=subprocess.DEVNULL)
-        world = IRSIM_VENV / 'lab_room.yaml'
+        world = venv / 'lab_room.yaml'
         world.write_text(IRSIM_WORLD)
         result = subprocess.run([str(python), '-c', IRSIM_RUN, str(world), str(IRSIM_STEPS),
                                  str(REPEATS)], capture_output=True, text=True, check=True,
                                 env=dict(os.environ, MPLBACKEND='Agg'), timeout=1800)
         return json.loads(result.stdout.strip().splitlines()[-1])
     except (OSError, subprocess.SubprocessError, ValueError, IndexError) as error:
-        print(f'IR-SIM not measured: {error}')
+        print(f'{name} not measured: {error}')
         return None
 
 
@@ -130,14 +133,15 @@ def main(argv=None):
           f'{statistics.median(vectors) / statistics.median(singles):.1f}x the single '
           "environment's steps/s")
     if args.smoke:
-        print('IR-SIM not measured: smoke run')
+        print('IR-SIM and irsim-x not measured: smoke run')
         return 0
-    irsim = irsim_rates()
-    if irsim:
-        print(f'IR-SIM, same room, robot and laser: median {statistics.median(irsim):,.1f} '
-              f'steps/s (runs: {", ".join(f"{rate:,.1f}" for rate in irsim)})')
-        print(f'ratio, stdr_lite single to IR-SIM: '
-              f'{statistics.median(singles) / statistics.median(irsim):,.1f}x')
+    for name, package, venv in PEERS:
+        rates = peer_rates(name, package, venv)
+        if rates:
+            print(f'{name}, same room, robot and laser: median {statistics.median(rates):,.1f} '
+                  f'steps/s (runs: {", ".join(f"{rate:,.1f}" for rate in rates)})')
+            print(f'ratio, stdr_lite single to {name}: '
+                  f'{statistics.median(singles) / statistics.median(rates):,.1f}x')
     return 0
 
 

@@ -107,11 +107,6 @@ class LiveView:
         node.create_timer(WORK_PERIOD, self._work, clock=steady)
         self._follow_graph()
 
-    @property
-    def topics(self):
-        """Return the topics offered to clients."""
-        return sorted(self._topics)
-
     def _follow_graph(self):
         node = self._node
         present = set()

@@ -115,12 +115,16 @@ def odometry_x(client):
     return deserialize_message(latest, Odometry).pose.pose.position.x
 
 
-def test_the_teleop_panels_twist_drives_the_robot(live, executor):
-    _, _, node = live
+def watching_odometry(executor, node):
+    """Give a client subscribed to robot0's odometry, and the x it reads first."""
     client = connected(executor, node)
     client.subscribe('/robot0/odom')
     received(executor, client, ['/robot0/odom'], what='odometry')
-    start = odometry_x(client)
+    return client, odometry_x(client)
+
+
+def test_the_teleop_panels_twist_drives_the_robot(live, executor):
+    client, start = watching_odometry(executor, live[2])
     channel = client.advertise('/robot0/cmd_vel', 'geometry_msgs/msg/Twist')
     forward = serialize_message(Twist(linear=Vector3(x=0.5)))
 
@@ -134,11 +138,8 @@ def test_the_teleop_panels_twist_drives_the_robot(live, executor):
 
 
 def test_publishing_anything_but_a_command_is_refused(live, executor, capfd):
-    simulator, _, node = live
-    client = connected(executor, node)
-    client.subscribe('/robot0/odom')
-    received(executor, client, ['/robot0/odom'], what='odometry')
-    start = odometry_x(client)
+    node = live[2]
+    client, start = watching_odometry(executor, node)
     on_map = client.advertise('/map', 'geometry_msgs/msg/Twist')
     wrong_type = client.advertise('/robot0/cmd_vel', 'std_msgs/msg/String')
     json_command = client.advertise('/robot0/cmd_vel', 'geometry_msgs/msg/Twist', 'json')
@@ -179,9 +180,12 @@ def test_publishing_anything_but_a_command_is_refused(live, executor, capfd):
 
 def test_a_slow_then_vanished_client_never_holds_the_simulator_up(start_live, executor, capfd):
     simulator, sim_client, node = start_live(real_time=4.0, backlog=16)
-    beats = []
+    beats, scans = [], []
     sim_client.create_subscription(
         Clock, '/clock', lambda message: beats.append(time.monotonic()), 1000)
+    # The simulator's first laser reading (a new tree's ray caster compiles then) comes first.
+    sim_client.create_subscription(LaserScan, '/robot0/laser_0', scans.append, 10)
+    spin_until(executor, lambda: scans, timeout=30.0, what='a laser scan')
     slow = connected(executor, node, receive_buffer=4096)
     slow.subscribe(*slow.channels)
     # From here: the client connected (its handshake blocks this thread, which spins the
