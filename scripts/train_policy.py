@@ -49,11 +49,12 @@ def export(model, env, path):
     policy = model.policy
     layers = [module for module in policy.mlp_extractor.policy_net if hasattr(module, 'weight')]
     layers.append(policy.action_net)
-    observations = env.reset()[:CHECKED_OBSERVATIONS]
-    for _ in range(20):
-        env.step_async(model.predict(env.reset(), deterministic=True)[0])
-        observations = np.concatenate([observations, env.step_wait()[0]])
-    observations = observations[:CHECKED_OBSERVATIONS]
+    # Observations the policy meets driving: a reset's, then its first steps'.
+    observations = [env.reset()]
+    while sum(map(len, observations)) < CHECKED_OBSERVATIONS:
+        env.step_async(model.predict(observations[-1], deterministic=True)[0])
+        observations.append(env.step_wait()[0])
+    observations = np.concatenate(observations)[:CHECKED_OBSERVATIONS]
     actions = model.predict(observations, deterministic=True)[0]
     arrays = {f'weight{index}': layer.weight.detach().numpy() for index, layer in
               enumerate(layers)}

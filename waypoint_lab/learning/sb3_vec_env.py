@@ -83,17 +83,9 @@ def sb3_vec_env(num_envs: int = 8, **parameters):
     from stable_baselines3.common.vec_env import VecEnv
 
     class WaypointsSB3VecEnv(SB3Steps, VecEnv):
+        # SB3Steps' methods come first: its seed() and reset() replace VecEnv's.
         def __init__(self):
             SB3Steps.__init__(self, num_envs, **parameters)
             VecEnv.__init__(self, num_envs, self.observation_space, self.action_space)
-
-        def reset(self):
-            if any(seed is not None for seed in getattr(self, '_seeds', [None])):
-                self._seed = self._seeds[0]
-                self._reset_seeds()
-            return SB3Steps.reset(self)
-
-        def seed(self, seed=None):
-            return SB3Steps.seed(self, seed)
 
     return WaypointsSB3VecEnv()
