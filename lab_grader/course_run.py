@@ -1,49 +1,54 @@
 """
 One course run in isolation: stdr_lite, a recorder and the submission in a ROS domain of their own.
 
-The simulator starts paused; the recorder (this process, in a Context of the course's domain)
-hears its ground truth, then the submission starts and the recorder waits until it matches the
-submission's robot_status publisher, so that no status is lost to discovery; only then does
-the simulation play. The run ends a little after FINISHED (or ABORTED), after the submission
-ends, at the time limit, or when grading is interrupted; everything the run started is then
-stopped and the bag closed.
+The grader first checks that its domain is empty (no node, no topic of anyone's). The simulator
+starts supervised (stdr_lite's supervisor_fd): paused, serving nothing that changes the world,
+its true state sent to the grader over a socket no other process holds. The recorder (this
+process, in a Context of the course's domain) records the run's bag and keeps every robot_status
+message with its send time; then the submission starts, and once its status publisher is
+matched the simulation plays. While the run goes, whoever else publishes on the simulator's
+topics is named: the submission's processes make it a foul (the course fails), another
+program's an error. The run ends a little after FINISHED (or ABORTED), after the submission
+ends, at the time limit, on a foul, or when grading is interrupted; everything the run started
+is then stopped and the bag closed. The judge's evidence is the socket's truth and the statuses
+kept here, never a file the submission could reach.
 """
 
 from dataclasses import dataclass
 import os
 from pathlib import Path
 import shutil
+import tempfile
 import threading
 import time
 import uuid
 
+from lab_grader.grading import RunEvidence
+from lab_grader.publishers import find_intruders
+from lab_grader.recorder import GradingRecorder
+from lab_grader.simulator_link import SimulatorLink
+from lab_grader.submission_process import Submission
 from lab_grader.supervision import Supervised
 from lab_grader.verdicts import ProcessOutcome
+import psutil
 import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.logging import LoggingSeverity
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
-from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.domains import claim_domain
-from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.share import installed_executable, shared_file
-from simulation_interfaces.msg import Result, SimulationState
-from simulation_interfaces.srv import SetSimulationState
-from std_msgs.msg import String
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
-from waypoint_lab.status import parse_status
+from waypoint_lab.course import STATUS_TOPIC
+import yaml
 
 PLACEHOLDER = '{waypoints}'
-# Everything the run is judged by is kept, however far behind the recorder falls (a lockstep
-# simulator runs as fast as the controller answers): nothing is dropped from the queue. Reliable
-# readers match the simulator's publishers and the lab's status publisher (rclpy's default,
-# reliable and volatile) alike, transient-local ones too.
-JUDGED_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
-STATUS_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
-                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# What the submission's environment keeps of the grader's: what finds programs, libraries and
+# ROS, the language, and the run's ROS settings (course_environment).
+SUBMISSION_VARIABLES = frozenset((
+    'PATH', 'PYTHONPATH', 'LD_LIBRARY_PATH', 'VIRTUAL_ENV', 'AMENT_PREFIX_PATH',
+    'CMAKE_PREFIX_PATH', 'COLCON_PREFIX_PATH', 'PKG_CONFIG_PATH', 'ROS_DISTRO', 'ROS_VERSION',
+    'ROS_PYTHON_VERSION', 'ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_STATIC_PEERS',
+    'RMW_IMPLEMENTATION', 'FASTRTPS_DEFAULT_PROFILES_FILE', 'PYTHONUNBUFFERED', 'LANG',
+    'LANGUAGE', 'TZ', 'TERM', 'USER', 'LOGNAME', 'SHELL'))
 SIMULATOR_START = 60.0
 # How long the submission has to make its robot_status publisher before the simulation plays,
 # and how long after the recorder has matched it: the publisher's side of the match may come a
@@ -59,6 +64,11 @@ AFTER_EXIT = 1.0
 CATCH_UP = 60.0
 QUIET = 0.5
 SPIN_PERIOD = 0.05
+# A domain is taken only when, after this long listening, it shows no node and no topic.
+EMPTY_DOMAIN_WAIT = 0.5
+DOMAIN_TRIES = 8
+# How often the graph is read for intruders (wall seconds).
+WATCH_PERIOD = 0.1
 
 
 @dataclass(frozen=True)
@@ -70,19 +80,16 @@ class RunSettings:
     lockstep: bool = False
     real_time_factor: float = 1.0
     robot_name: str = 'robot0'
-
-
-@dataclass
-class RunResult:
-    """What a run left: how the submission ended, its bag, and any failure of the grader's own."""
-
-    outcome: ProcessOutcome
-    bag: Path
-    error: str = ''
+    memory_mb: int = 0
+    hidden: tuple[str, ...] = ()
 
 
 class GradingError(Exception):
     """The grader could not run a course; not the submission's doing."""
+
+
+class Foul(Exception):
+    """The submission did what ends a run at once and fails the course (the message says what)."""
 
 
 def course_environment(domain_id: int) -> dict:
@@ -95,108 +102,75 @@ def course_environment(domain_id: int) -> dict:
     return environment
 
 
-def simulator_command(course, settings) -> list[str]:
-    """Return the stdr_lite command line of a course: paused, at the course's start."""
+def submission_environment(course_environment: dict, working: Path,
+                           hidden: tuple[str, ...]) -> dict:
+    """
+    Return the submission's environment: what running a program takes, and nothing of the grader.
+
+    The variables of SUBMISSION_VARIABLES (and LC_*) are kept, unless their value names a
+    hidden folder (the courses', the reports'); home, temporary files and ROS's logs are the
+    submission's working folder.
+    """
+    kept = {name: value for name, value in course_environment.items()
+            if (name in SUBMISSION_VARIABLES or name.startswith('LC_'))
+            and not any(folder in value for folder in hidden)}
+    folder = str(working)
+    return dict(kept, HOME=folder, TMPDIR=folder, ROS_HOME=folder,
+                ROS_LOG_DIR=str(working / 'log'))
+
+
+def simulator_command(course, settings, link_descriptor, folder) -> list[str]:
+    """
+    Return the stdr_lite command line of a course: supervised, at the course's start.
+
+    The parameters go in a file of the grader's private folder, so that the command line
+    (which any process may read) names no course file.
+    """
     x, y, theta = course.start
-    parameters = {'paused': 'true', 'lockstep': str(settings.lockstep).lower(),
-                  'real_time_factor': f'{settings.real_time_factor:.6f}',
-                  'initial_pose': f'[{x!r}, {y!r}, {theta!r}]',
-                  'robot_name': settings.robot_name}
+    parameters = {'lockstep': bool(settings.lockstep),
+                  'real_time_factor': float(settings.real_time_factor),
+                  'initial_pose': [float(x), float(y), float(theta)],
+                  'robot_name': settings.robot_name,
+                  'supervisor_fd': link_descriptor}
     if course.map_file:
-        parameters['map_yaml'] = course.map_file
+        parameters['map_yaml'] = str(course.map_file)
     if course.robot_file:
-        parameters['robot_description'] = course.robot_file
-    arguments = [item for name, value in parameters.items()
-                 for item in ('-p', f'{name}:={value}')]
-    return [installed_executable('stdr_lite'), '--ros-args', *arguments]
+        parameters['robot_description'] = str(course.robot_file)
+    path = Path(folder) / 'simulator.yaml'
+    path.write_text(yaml.safe_dump({'stdr_lite': {'ros__parameters': parameters}}))
+    return [installed_executable('stdr_lite'), '--ros-args', '--params-file', str(path)]
 
 
-class GradingRecorder(GuardedNode):
-    """Records the run's topics into its bag, follows robot_status, and plays the simulation."""
-
-    def __init__(self, context, bag, robot_name, course_name):
-        # Each course's recorder is a node of this process: one rosout publisher per name.
-        super().__init__('grade_lab_recorder', context=context, enable_rosout=False)
-        self.get_logger().set_level(LoggingSeverity.WARN)
-        robot = f'/{robot_name}'
-        self.recording = BagRecording(self, bag, (f'/{COURSE_TOPIC}', '/map'), send_times=True,
-                                      course=course_name)
-        self.simulator_topics = {f'{robot}/ground_truth': 'nav_msgs/msg/Odometry',
-                                 f'{robot}/stall': 'std_msgs/msg/Bool'}
-        self.truth_sent = self.truth_heard_at = 0
-        for topic, type_name in self.simulator_topics.items():
-            self.recording.record_now(topic, type_name, JUDGED_QOS,
-                                      self._on_truth if 'ground_truth' in topic else None)
-        self.ended_at = None
-        # A transient-local status publisher (the lab's controller's) replays to the second
-        # subscription what the first missed while the publisher's side of the match lagged.
-        self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String', JUDGED_QOS,
-                                  self._on_status, STATUS_HISTORY)
-        self._set_state = self.create_client(SetSimulationState,
-                                             '/stdr_lite/set_simulation_state')
-
-    @property
-    def simulator_matched(self) -> bool:
-        """Whether the simulator's topics the run is judged by have their publisher matched."""
-        return all(self.recording.subscription(topic).get_publisher_count()
-                   for topic in self.simulator_topics)
-
-    @property
-    def status_publishers(self) -> int:
-        return self.recording.subscription(f'/{STATUS_TOPIC}').get_publisher_count()
-
-    def _on_truth(self, _, sent):
-        self.truth_sent, self.truth_heard_at = sent, time.monotonic()
-
-    def _on_status(self, data, _):
-        status = parse_status(deserialize_message(data, String).data)
-        if status is not None and status.ends_run and self.ended_at is None:
-            self.ended_at = time.monotonic()
-
-    def play(self, spin):
-        """Ask the simulator to play; GradingError if it does not."""
-        if not spin(self._set_state.service_is_ready, SIMULATOR_START):
-            raise GradingError('the simulator offers no set_simulation_state service')
-        future = self._set_state.call_async(SetSimulationState.Request(
-            state=SimulationState(state=SimulationState.STATE_PLAYING)))
-        if not spin(future.done, SIMULATOR_START) or future.result().result.result != (
-                Result.RESULT_OK):
-            raise GradingError('the simulator did not start playing')
-
-
-def run_course(course, settings, folder, stopping: threading.Event) -> RunResult:
+def run_course(course, settings, folder, stopping: threading.Event) -> RunEvidence:
     """Run one course for the submission in folder (made if need be) and return its result."""
     folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)
-    waypoints = folder / 'waypoints.txt'
+    run = _Run(course, stopping, folder)
+    waypoints = run.working / 'waypoints.txt'
     shutil.copyfile(course.waypoint_file, waypoints)
     command = [part.replace(PLACEHOLDER, str(waypoints)) for part in settings.command]
-    claim = claim_domain()
-    environment = course_environment(claim.domain_id)
-    marker = uuid.uuid4().hex
-    bag = folder / 'run.mcap'
-    simulator = Supervised(simulator_command(course, settings), f'{marker}:simulator',
-                           folder / 'simulator.log', env=environment)
-    context = Context()
-    rclpy.init(context=context, domain_id=claim.domain_id,
-               signal_handler_options=SignalHandlerOptions.NO)
-    run = _Run(course, context, stopping, simulator)
     try:
-        return run.go(bag, settings, command, environment, f'{marker}:submission')
+        return run.go(settings, command)
     finally:
         run.close()
-        simulator.stop()
-        rclpy.try_shutdown(context=context)
-        claim.release()
 
 
 class _Run:
-    """The course's run, step by step, in the course's own Context."""
+    """The course's run, step by step, in a Context of the course's own domain."""
 
-    def __init__(self, course, context, stopping, simulator):
-        self.course, self.context, self.stopping = course, context, stopping
-        self.simulator = simulator
+    def __init__(self, course, stopping, folder):
+        self.course, self.stopping, self.folder = course, stopping, folder
+        self.bag = folder / 'run.mcap'
+        # The grader's own files of the run, and the submission's working folder: its home,
+        # with its copy of the waypoint file; both go at the end.
+        self.private = Path(tempfile.mkdtemp(prefix='grade_lab-'))
+        self.working = Path(tempfile.mkdtemp(prefix='grade_lab-work-'))
+        self.claim = self.context = self.simulator = self.link = None
         self.recorder = self.executor = self.submission = None
+        self.fouls, self.strangers = [], []
+        self.submission_pids = set()
+        self._last_heard = (time.monotonic(), 0)
+        self._watched_at = 0.0
 
     def spin(self, condition, timeout):
         """Spin until condition() holds; False after timeout, or if grading stops first."""
@@ -204,37 +178,124 @@ class _Run:
         while not condition():
             if self.stopping.is_set() or time.monotonic() > deadline:
                 return False
-            if not self.simulator.running:
-                raise GradingError(f'the simulator ended (exit code {self.simulator.exit_code}'
-                                   f'): {" | ".join(self.simulator.last_lines)[-300:]}')
+            self._check_simulator()
+            self._watch()
             self.executor.spin_once(timeout_sec=SPIN_PERIOD)
         return True
 
-    def go(self, bag, settings, command, environment, marker):
+    def _check_simulator(self):
+        simulator = self.simulator
+        if simulator is None or simulator.running:
+            return
+        code = simulator.exit_code
+        if code is not None and code <= 0 and self.submission is not None:
+            raise Foul(f'the simulator was ended during the run ({_ended_text(code)}), not by '
+                       'the grader')
+        raise GradingError(f'the simulator ended (exit code {code}): '
+                           f'{" | ".join(simulator.last_lines)[-300:]}')
+
+    def _watch(self):
+        """Name whoever publishes where only the simulator, or the submission, may."""
+        if self.submission is None or time.monotonic() - self._watched_at < WATCH_PERIOD:
+            return
+        self._watched_at = time.monotonic()
+        recorder = self.recorder
+        self.submission_pids |= self.submission.pids()
+        found = find_intruders(recorder.publishers(recorder.watched),
+                               recorder.publishers([f'/{STATUS_TOPIC}']),
+                               self.simulator.pid, self.submission_pids, psutil.pids())
+        self.fouls += [line for line in found.fouls if line not in self.fouls]
+        self.strangers += [line for line in found.strangers if line not in self.strangers]
+        if recorder.flooded:
+            self.fouls.append(f'sent more than {recorder.status_limit} messages on '
+                              f'robot_status (an honest run sends '
+                              f'{len(self.course.waypoints) + 2}): the run was ended there')
+        if self.fouls:
+            raise Foul(self.fouls[0])
+        if self.strangers:
+            raise GradingError(f"{self.strangers[0]}: not the submission's doing; grade again")
+
+    def _take_empty_domain(self):
+        """Claim a domain, and keep it only if nobody is in it; GradingError if none is empty."""
+        busy = []
         try:
-            self.recorder = GradingRecorder(self.context, bag, settings.robot_name,
-                                            self.course.waypoint_file.name)
-            self.executor = SingleThreadedExecutor(context=self.context)
-            self.executor.add_node(self.recorder)
-            if not self.spin(lambda: self.recorder.simulator_matched, SIMULATOR_START):
+            for _ in range(DOMAIN_TRIES):
+                claim = claim_domain(avoid=tuple(held.domain_id for held in busy))
+                context = Context()
+                rclpy.init(context=context, domain_id=claim.domain_id,
+                           signal_handler_options=SignalHandlerOptions.NO)
+                self.claim, self.context = claim, context
+                self.recorder = GradingRecorder(context, self.bag, self.course_robot,
+                                                self.course)
+                self.executor = SingleThreadedExecutor(context=context)
+                self.executor.add_node(self.recorder)
+                end = time.monotonic() + EMPTY_DOMAIN_WAIT
+                while time.monotonic() < end:
+                    self.executor.spin_once(timeout_sec=SPIN_PERIOD)
+                others = self.recorder.others()
+                if not others:
+                    return
+                print(f'grade_lab: ROS domain {claim.domain_id} is in use by another program '
+                      f'(nodes {", ".join(others[:3])}): taking another', flush=True)
+                self._close_recorder()
+                rclpy.try_shutdown(context=context)
+                self.claim = self.context = None
+                busy.append(claim)
+        finally:
+            for claim in busy:
+                claim.release()
+        raise GradingError(f'no empty ROS domain: {DOMAIN_TRIES} tried, each in use by another '
+                           'program')
+
+    def go(self, settings, command):
+        self.course_robot = settings.robot_name
+        try:
+            self._take_empty_domain()
+            environment = course_environment(self.claim.domain_id)
+            marker = uuid.uuid4().hex
+            self.link = SimulatorLink(settings.robot_name)
+            self.simulator = Supervised(
+                simulator_command(self.course, settings, self.link.descriptor, self.private),
+                f'{marker}:simulator', self.folder / 'simulator.log', env=environment,
+                pass_fds=(self.link.descriptor,))
+            self.link.handed_over()
+            if not self.spin(lambda: self.link.limits is not None
+                             and self.recorder.simulator_matched, SIMULATOR_START):
                 raise GradingError("the simulator's ground truth and stall topics did not "
                                    f'show within {SIMULATOR_START:g} s')
-            self.submission = Supervised(command, marker, bag.parent / 'output.txt',
-                                         cwd=settings.cwd, env=environment)
+            # Read by now: the file names the course's world, so it goes before the submission.
+            shutil.rmtree(self.private, ignore_errors=True)
+            self.submission = Submission(
+                command, f'{marker}:submission', self.folder / 'output.txt', cwd=settings.cwd,
+                env=submission_environment(environment, self.working, settings.hidden),
+                memory_mb=settings.memory_mb)
             if self.spin(lambda: self.recorder.status_publishers or not self.submission.running,
                          STATUS_PUBLISHER_WAIT):
                 self.spin(lambda: False, MATCH_SETTLE)
-            self.recorder.play(self.spin)
+            if not self.link.play():
+                raise GradingError('the simulator did not start playing')
             timed_out = self._until_over()
             self._catch_up()
-            if self.recorder.recording.failed:
-                raise GradingError('the run could not be recorded: '
-                                   f'{self.recorder.recording.bag.failure}')
+        except Foul as foul:
+            if str(foul) not in self.fouls:
+                self.fouls.append(str(foul))
+            return self._result(self._stop_submission())
         except GradingError as error:
-            return RunResult(self._stop_submission(), bag, str(error))
+            return self._result(self._stop_submission(), str(error))
         if self.stopping.is_set():
-            return RunResult(self._stop_submission(), bag, 'grading was interrupted')
-        return RunResult(self._stop_submission(timed_out), bag)
+            return self._result(self._stop_submission(), 'grading was interrupted')
+        outcome = self._stop_submission(timed_out)
+        if self.recorder_failure:
+            return self._result(outcome, f'the run could not be recorded: {self.recorder_failure}')
+        return self._result(outcome)
+
+    def _result(self, outcome, error=''):
+        """Return the run's evidence: the truth the simulator sent up to now, the statuses."""
+        self.close()
+        link = self.link
+        return RunEvidence(outcome, self.bag, error, link.truth() if link else [],
+                           list(self.recorder_statuses), link.limits if link else None,
+                           tuple(self.fouls))
 
     def _until_over(self):
         """Spin until the run is over; return whether the time limit ended it."""
@@ -251,26 +312,35 @@ class _Run:
 
     def _catch_up(self):
         """
-        Record what the simulator had sent when the run was over, however far behind.
+        Take in what had been sent when the run was over, however far behind.
 
-        The recorder may lag the simulator (a lockstep run as fast as the controller goes): the
-        run is recorded until it has the true pose sent at the moment the run was over, or
-        until the simulator has sent nothing for a while (in lockstep it waits for a controller
-        that has ended).
+        The simulator's socket is read as fast as it comes; the recorder's ROS messages (the
+        statuses among them) may lag (a lockstep run goes as fast as the controller): it has
+        caught up once it has the ROS truth sent at the moment the run was over, or when
+        nothing has come for a while (in lockstep the simulator waits for a controller that
+        has ended).
         """
         over = time.time_ns()
+        recorder = self.recorder
 
         def caught_up():
-            return (self.recorder.truth_sent >= over
-                    or time.monotonic() - self.recorder.truth_heard_at > QUIET)
+            return (self.link.last_sent >= over or self._quiet(self.link.last_sent)) and (
+                recorder.truth_sent >= over
+                or time.monotonic() - recorder.truth_heard_at > QUIET)
         if not self.spin(caught_up, CATCH_UP) and not self.stopping.is_set():
             raise GradingError(f'the recorder was still {CATCH_UP:g} s behind the simulator at '
                                'the end (the machine is too busy): grade with fewer --jobs or '
                                'a lower --real-time-factor')
 
+    def _quiet(self, sent):
+        """Whether the simulator's socket has said nothing new for QUIET seconds."""
+        if sent != self._last_heard[1]:
+            self._last_heard = (time.monotonic(), sent)
+        return time.monotonic() - self._last_heard[0] > QUIET
+
     def _stop_submission(self, timed_out=False):
         """Close the bag (the run is what it recorded), then stop the submission."""
-        self.close()
+        self._close_recorder()
         if self.submission is None:
             return ProcessOutcome(start_error='not started: the grader failed first')
         if self.submission.start_error:
@@ -282,11 +352,39 @@ class _Run:
                               last_lines=tuple(self.submission.last_lines),
                               leftovers=tuple(leftovers))
 
-    def close(self):
-        """Finish the bag and take the recorder down; again is harmless."""
+    def _close_recorder(self):
+        """Finish the bag and take the recorder down, keeping its statuses; again is harmless."""
         if self.recorder is not None:
             self.recorder.recording.close()
+            self.recorder_statuses = list(self.recorder.statuses)
+            self.recorder_failure = self.recorder.recording.bag.failure \
+                if self.recorder.recording.failed else ''
             self.executor.remove_node(self.recorder)
             self.executor.shutdown()
             self.recorder.destroy_node()
             self.recorder = None
+
+    recorder_statuses = ()
+    recorder_failure = ''
+
+    def close(self):
+        """Stop whatever of the run still goes (the submission before); again is harmless."""
+        self._close_recorder()
+        if self.submission is not None and self.submission.running:
+            self._stop_submission()
+        if self.link is not None:
+            self.link.close()
+        if self.simulator is not None:
+            self.simulator.stop()
+        if self.context is not None:
+            rclpy.try_shutdown(context=self.context)
+            self.context = None
+        if self.claim is not None:
+            self.claim.release()
+            self.claim = None
+        shutil.rmtree(self.private, ignore_errors=True)
+        shutil.rmtree(self.working, ignore_errors=True)
+
+
+def _ended_text(code):
+    return 'exit code 0 after a signal' if code == 0 else f'killed by signal {-code}'

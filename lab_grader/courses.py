@@ -155,3 +155,22 @@ _FIELDS = {
     'max_path_length': lambda source, value, _: {'max_path_length': _number(
         source, 'max_path_length', value, GRADED_LIMIT)},
 }
+
+
+def course_files(courses: list[Course]) -> list[Path]:
+    """Return every file the courses are read from: waypoints, YAML, maps and their images."""
+    files = []
+    for course in courses:
+        files.append(Path(course.waypoint_file))
+        files += [Path(course.waypoint_file).with_suffix(suffix) for suffix in YAML_SUFFIXES]
+        for extra in (course.map_file, course.robot_file):
+            if extra:
+                files.append(Path(extra))
+        if course.map_file:
+            try:
+                image = read_yaml(course.map_file, 'map', CourseError).get('image')
+            except (CourseError, AttributeError):
+                image = None
+            if isinstance(image, str):
+                files.append(Path(course.map_file).parent / image)
+    return [file for file in files if file.is_file()]

@@ -11,6 +11,8 @@ Exit code 0 when every course of every submission passes, 1 otherwise, 2 for bad
 """
 
 from concurrent.futures import as_completed, ThreadPoolExecutor
+import ctypes
+import json
 import math
 import os
 from pathlib import Path
@@ -20,10 +22,11 @@ import sys
 import tempfile
 import threading
 
+from lab_grader.course_guard import CourseGuard, CourseGuardError
 from lab_grader.course_run import PLACEHOLDER, run_course, RunSettings
-from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, CourseError,
+from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, course_files, CourseError,
                                 DISTANCE_TOLERANCE_RANGE, find_courses, TIME_LIMIT_RANGE)
-from lab_grader.grading import grade_course, PASS, SubmissionVerdict
+from lab_grader.grading import grade_course, PASS, RunEvidence, SubmissionVerdict
 from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
@@ -36,6 +39,12 @@ from simple_robot_control.validation import Bounds, compact, is_ros_name
 from waypoint_lab.course import ANGLE_TOLERANCE, Course, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
+MEMORY = Bounds(0, 1 << 20)
+MEMORY_MB = 4096
+# grade_lab runs again with its arguments in an unnamed file of this descriptor, so that its
+# command line, which any process may read, names no course and no report folder.
+ARGUMENTS_FD = 'GRADE_LAB_ARGUMENTS_FD'
+_PR_SET_DUMPABLE = 4
 REAL_TIME_FACTOR = Bounds(0.0, 100.0)
 DESCRIPTION = ('Grade a lab controller on courses it has not seen, as the tick-off sheet '
                'would: each course runs in a ROS domain of its own (stdr_lite, a recorder and '
@@ -75,6 +84,10 @@ def build_parser():
                         help='goal set heading tolerance t [degrees] (default '
                         f"{math.degrees(ANGLE_TOLERANCE):g}, the lab's)")
     parser.add_argument('--robot-name', default='robot0', help='the robot (default robot0)')
+    parser.add_argument('--memory', type=int, default=MEMORY_MB, metavar='MB',
+                        help='writable memory each process of a submission may take, in MB '
+                        f'(default {MEMORY_MB}; 0: no limit; {MEMORY.text()}); beyond it its '
+                        'allocations fail, and the course with them')
     return parser
 
 
@@ -93,6 +106,7 @@ def parse(argv):
         and f'the command has no {PLACEHOLDER}: where does the waypoint file go?',
         JOBS.problem('--jobs', options.jobs),
         REAL_TIME_FACTOR.problem('--real-time-factor', options.real_time_factor),
+        MEMORY.problem('--memory', options.memory),
         options.real_time_factor == 0.0 and not options.lockstep
         and '--real-time-factor 0 needs --lockstep (the simulator would outrun the controller)',
         TIME_LIMIT_RANGE.problem('--time-limit', options.time_limit),
@@ -139,10 +153,13 @@ def submissions_of(options):
 class Grading:
     """Runs every course of every submission, --jobs at a time, until done or interrupted."""
 
-    def __init__(self, options, command, courses, submissions, folder):
+    def __init__(self, options, command, courses, submissions, folder, guard):
         self.options, self.command = options, command
         self.courses, self.submissions, self.folder = courses, submissions, folder
+        self.guard, self._guarding = guard, threading.Lock()
         self.stopping = threading.Event()
+        self.hidden = tuple(str(Path(path).resolve()) for path in options.courses) + (
+            (str(folder),) if options.report else ())
 
     def run(self):
         """Return a SubmissionVerdict per submission, its courses in course order."""
@@ -161,14 +178,17 @@ class Grading:
 
     def _grade(self, name, cwd, course):
         settings = RunSettings(tuple(self.command), str(cwd), self.options.lockstep,
-                               self.options.real_time_factor, self.options.robot_name)
+                               self.options.real_time_factor, self.options.robot_name,
+                               self.options.memory, self.hidden)
         folder = self.folder / (name if len(self.submissions) > 1 else '') / course.name
         if self.stopping.is_set():
-            return grade_course(course, ProcessOutcome(start_error='not run'),
-                                folder / 'run.mcap', 'grading was interrupted')
-        result = run_course(course, settings, folder, self.stopping)
-        verdict = grade_course(course, result.outcome, result.bag, result.error,
-                               self.options.robot_name)
+            return grade_course(course, RunEvidence(ProcessOutcome(start_error='not run'),
+                                                    folder / 'run.mcap',
+                                                    'grading was interrupted'))
+        evidence = run_course(course, settings, folder, self.stopping)
+        with self._guarding:
+            evidence.fouls += tuple(self.guard.check())
+        verdict = grade_course(course, evidence, self.options.robot_name)
         if self.options.report:
             verdict.picture_problem = draw_course(verdict)
         return verdict
@@ -186,8 +206,40 @@ def write_reports(options, command, submissions, folder):
         (place / 'classroom.json').write_text(classroom_result(submission, command))
 
 
+def hide_arguments() -> list[str]:
+    """
+    Return the command line's arguments, having first run again without them, if need be.
+
+    Any process of the machine may read a command line (/proc/<pid>/cmdline): grade_lab's would
+    name the courses and the report folder to the submissions it runs. So grade_lab runs again,
+    as the same process, with its arguments in an unnamed in-memory file; and it makes itself
+    non-dumpable, so that no other process of its user reads its environment, its open files
+    or its folder through /proc, or attaches to it.
+    """
+    descriptor = os.environ.pop(ARGUMENTS_FD, None)
+    if descriptor is not None:
+        with os.fdopen(int(descriptor), 'rb') as stream:
+            arguments = json.loads(stream.read())
+    else:
+        arguments = sys.argv[1:]
+        if arguments and hasattr(os, 'memfd_create'):
+            memory = os.memfd_create('grade_lab-arguments', 0)
+            os.write(memory, json.dumps(arguments).encode())
+            os.lseek(memory, 0, os.SEEK_SET)
+            os.set_inheritable(memory, True)
+            sys.stdout.flush()
+            program = os.path.abspath(sys.argv[0])
+            os.execve(sys.executable, [sys.executable, program],
+                      dict(os.environ, **{ARGUMENTS_FD: str(memory)}))
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_DUMPABLE, 0, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+    return arguments
+
+
 def main(argv=None):
-    argv = list(sys.argv[1:] if argv is None else argv)
+    argv = hide_arguments() if argv is None else list(argv)
     options, command = parse(argv)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     os.environ['ROS_STATIC_PEERS'] = ''
@@ -198,6 +250,8 @@ def main(argv=None):
                       angle_tolerance=math.radians(options.angle_tolerance))
     try:
         courses = find_courses(options.courses, defaults)
+        guard = CourseGuard([path for path in options.courses if Path(path).is_dir()],
+                            course_files(courses))
         submissions = submissions_of(options)
         problem = command_problem(command, submissions)
         if problem:
@@ -206,12 +260,13 @@ def main(argv=None):
         folder = Path(options.report).resolve() if options.report else None
         if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
-    except (CourseError, OSError) as error:
+    except (CourseError, CourseGuardError, OSError) as error:
         print(f'grade_lab: error: {error}', file=sys.stderr)
         return EXIT_BAD_INPUT
     become_subreaper()
     with tempfile.TemporaryDirectory(prefix='grade_lab-') as scratch:
-        grading = Grading(options, command, courses, submissions, folder or Path(scratch))
+        grading = Grading(options, command, courses, submissions, folder or Path(scratch),
+                          guard)
         for number in (signal.SIGINT, signal.SIGTERM):
             signal.signal(number, lambda *_: grading.stopping.set())
         print(f'grade_lab: {len(courses)} course(s) x {len(submissions)} submission(s), '

@@ -9,9 +9,10 @@ submission's, and a grading with an error is not a pass either.
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from lab_grader.simulator_link import SpeedLimits
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
 from waypoint_lab.course import Course
-from waypoint_lab.run import read_run, Run, RunError
+from waypoint_lab.run import assemble_run, Run
 
 PASS, FAIL, ERROR = 'pass', 'fail', 'error'
 
@@ -66,23 +67,40 @@ class SubmissionVerdict:
         return sum(verdict.course.points for verdict in self.courses)
 
 
-def grade_course(course: Course, outcome: ProcessOutcome, bag: Path, error: str = '',
+@dataclass
+class RunEvidence:
+    """
+    What a course's run left: how the submission ended, its bag, and the judge's evidence.
+
+    truth is the simulator's path as its private socket gave it ((sim s, pose, wall ns sent,
+    stalled) per step), statuses every robot_status message ((wall ns sent, text)); fouls are
+    lines that each fail the course; error a failure of the grader's (or of another program's),
+    not the submission's. The bag is the run's record for people, never the judge's evidence.
+    """
+
+    outcome: ProcessOutcome
+    bag: Path
+    error: str = ''
+    truth: list = field(default_factory=list)
+    statuses: list = field(default_factory=list)
+    limits: SpeedLimits | None = None
+    fouls: tuple[str, ...] = ()
+
+
+def grade_course(course: Course, evidence: RunEvidence,
                  robot_name: str = 'robot0') -> CourseVerdict:
-    """Judge a course's run from its bag and the submission's outcome (and keep what it read)."""
-    verdict = CourseVerdict(course, outcome=outcome, error=error, folder=bag.parent)
-    try:
-        run = verdict.run = read_run(bag, robot_name, 'ground_truth', course)
-    except RunError as problem:
-        verdict.error = error or f'the run cannot be judged: {problem}'
+    """Judge a course's run from its evidence (and keep the run it makes)."""
+    verdict = CourseVerdict(course, outcome=evidence.outcome, error=evidence.error,
+                            folder=evidence.bag.parent)
+    run = verdict.run = assemble_run(course, evidence.truth, evidence.statuses, robot_name)
+    if evidence.error and not evidence.fouls:
         return verdict
-    if error:
-        return verdict
+    verdict.error = ''
     if run.missing_steps:
-        verdict.error = (f"the recorder lost {run.missing_steps} of the simulator's true "
-                         'poses (the machine was too busy): grade again with fewer --jobs or a '
-                         'lower --real-time-factor')
+        verdict.error = (f"the simulator's socket lost {run.missing_steps} true poses: grade "
+                         'again')
         return verdict
-    judge = Judge(course, run, outcome)
+    judge = Judge(course, run, evidence.outcome, evidence.fouls, evidence.limits)
     verdict.checks = judge.checks()
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict

@@ -12,6 +12,7 @@ terminal. Output is kept, bounded. No ROS here.
 """
 
 from collections import deque
+from collections.abc import Callable
 import ctypes
 import os
 import signal
@@ -87,15 +88,21 @@ def reap_orphans() -> None:
 
 
 def stop_marked(marker: str) -> str:
-    """
-    Stop every process carrying marker: SIGINT, SIGTERM after INTERRUPT_GRACE, then SIGKILL.
+    """Stop every process carrying marker; return the strongest signal it took (stop_all)."""
+    return stop_all(lambda: marked(marker))
 
+
+def stop_all(find: Callable[[], list[psutil.Process]]) -> str:
+    """
+    Stop every process find() gives: SIGINT, SIGTERM after INTERRUPT_GRACE, then SIGKILL.
+
+    find() is asked again at each signal, so that a process started meanwhile goes too.
     Return the strongest signal it took ('' when none was running).
     """
     needed = ''
     for number, grace in ((signal.SIGINT, INTERRUPT_GRACE), (signal.SIGTERM, TERMINATE_GRACE),
                           (signal.SIGKILL, TERMINATE_GRACE)):
-        running = marked(marker)
+        running = find()
         if not running:
             break
         needed = number.name
@@ -107,7 +114,7 @@ def stop_marked(marker: str) -> str:
         deadline = time.monotonic() + grace
         while running and time.monotonic() < deadline:
             time.sleep(0.05)
-            running = [process for process in running if _running(process)]
+            running = [process for process in find() if _running(process)]
     reap_orphans()
     return needed
 
@@ -126,7 +133,7 @@ class Supervised:
     start_error says why the command could not start ('' when it did).
     """
 
-    def __init__(self, command, marker, output_path, cwd=None, env=None):
+    def __init__(self, command, marker, output_path, cwd=None, env=None, pass_fds=()):
         self.marker = marker
         self.start_error = ''
         self.last_lines = deque(maxlen=KEPT_LINES)
@@ -138,7 +145,7 @@ class Supervised:
             self.process = subprocess.Popen(
                 command, cwd=cwd, env=environment, stdin=subprocess.DEVNULL,
                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True,
-                preexec_fn=_default_signals)
+                preexec_fn=_default_signals, pass_fds=pass_fds)
         except OSError as error:
             self.process = None
             self.start_error = f'cannot start {command[0]}: {error.strerror}'
@@ -149,6 +156,10 @@ class Supervised:
         self._reader = threading.Thread(target=self._read, name=f'output of {command[0]}',
                                         daemon=True)
         self._reader.start()
+
+    @property
+    def pid(self) -> int:
+        return 0 if self.process is None else self.process.pid
 
     @property
     def running(self) -> bool:
@@ -187,12 +198,16 @@ class Supervised:
         began = time.monotonic()
         needed = stop_marked(self.marker)
         self.process.wait()
-        with _LOCK:
-            _MANAGED.discard(self.process.pid)
+        self._forget()
         self._ended()
         self._reader.join(timeout=TERMINATE_GRACE)
         ended_by = 'itself' if ended_before or not needed else needed
         return ended_by, time.monotonic() - began, leftovers
+
+    def _forget(self):
+        """Leave the command's process, now collected, to reap_orphans' care no more."""
+        with _LOCK:
+            _MANAGED.discard(self.process.pid)
 
     def _read(self):
         """Copy the output to the file, at most MAX_OUTPUT_BYTES of it, keeping its last lines."""

@@ -25,6 +25,12 @@ SETTLE = 0.5
 STILL_DISTANCE = 0.01
 STILL_HEADING = math.radians(1.0)
 LAST_LINES = 12
+# What a program prints when an allocation fails: Python's, C++'s, C's.
+OUT_OF_MEMORY = ('MemoryError', 'std::bad_alloc', 'Cannot allocate memory')
+FAIR_PLAY = 'fair play'
+# A step may carry the robot at most its speed limits (both axes at the linear limit for an
+# omni robot), with this much slack for rounding.
+SPEED_SLACK = 0.01
 
 
 @dataclass(frozen=True)
@@ -73,8 +79,9 @@ def _honest(distance, heading):
 class Judge:
     """Judges one course's run: judge.checks() gives every line of its tick-off sheet."""
 
-    def __init__(self, course, run, outcome):
+    def __init__(self, course, run, outcome, fouls=(), limits=None):
         self.course, self.run, self.outcome = course, run, outcome
+        self.fouls, self.limits = tuple(fouls), limits
         self.lab = run.statuses
         self.finished = next((report for report in self.lab
                               if report.status.kind == FINISHED), None)
@@ -88,7 +95,8 @@ class Judge:
         if self.course.max_path_length is not None:
             checks.append(self._limit('path length', self.path_length,
                                       self.course.max_path_length, 'm'))
-        return checks + [self._ending()]
+        fair_play = self._fair_play()
+        return checks + [fair_play] * (not fair_play.passed) + [self._ending()]
 
     @property
     def time_taken(self) -> float | None:
@@ -224,6 +232,23 @@ class Judge:
                      f'({run.stalled_steps} steps), first at t = '
                      f'{run.first_stall:.2f} s at {_pose_text(where)}')
 
+    def _fair_play(self):
+        """
+        Check what the submission did to the run itself (a line that shows only when failed).
+
+        Fouls are what the grader saw while the run went (another publisher on the simulator's
+        topics, a flood of statuses, the simulator ended); a true path that jumps faster than
+        the robot can move was moved by something other than its commands.
+        """
+        problems = list(self.fouls)
+        jump = undrivable(self.run, self.limits)
+        if jump:
+            problems.append(jump)
+        if problems:
+            return Check(FAIR_PLAY, False, '; '.join(problems))
+        return Check(FAIR_PLAY, True, 'nothing but the simulator moved the robot or published '
+                     'its topics')
+
     def _limit(self, name, value, limit, unit):
         if value is None:
             return Check(name, False, 'not measured: the course was not finished')
@@ -244,8 +269,10 @@ class Judge:
             if outcome.exit_code == 0:
                 return Check(name, True, f'exited by itself with exit code 0 after '
                              f'{outcome.seconds:.1f} s')
+            memory = ' (it ran out of the memory grade_lab --memory allows)' if any(
+                sign in line for line in outcome.last_lines for sign in OUT_OF_MEMORY) else ''
             return Check(name, False, f'crashed after {outcome.seconds:.1f} s: '
-                         f'{_exit_text(outcome.exit_code)}; its last lines:{lines}')
+                         f'{_exit_text(outcome.exit_code)}{memory}; its last lines:{lines}')
         if outcome.ended_by == 'SIGINT':
             return Check(name, True, f'still running when the course was over; ended on '
                          f'Ctrl-C (SIGINT) in {outcome.stop_seconds:.1f} s')
@@ -258,3 +285,23 @@ def _exit_text(code):
     if code is not None and code < 0:
         return f'killed by signal {-code}'
     return f'exit code {code}'
+
+
+def undrivable(run, limits) -> str:
+    """Say where the true path jumps faster than the speed limits allow, or return ''."""
+    if limits is None or len(run.times) < 2:
+        return ''
+    steps = np.diff(run.times)
+    moves = np.diff(run.poses, axis=0)
+    moved = np.hypot(moves[:, 0], moves[:, 1])
+    turned = np.abs((moves[:, 2] + math.pi) % (2.0 * math.pi) - math.pi)
+    reach = math.sqrt(2.0) * limits.linear * steps * (1.0 + SPEED_SLACK) + 1e-6
+    turn = limits.angular * steps * (1.0 + SPEED_SLACK) + 1e-6
+    jumps = np.flatnonzero((moved > reach) | (turned > turn))
+    if not len(jumps):
+        return ''
+    first = int(jumps[0])
+    return (f'the true path is not drivable: the robot went {moved[first]:.3f} m and turned '
+            f'{_degrees(turned[first])} in {steps[first]:.3f} s at t = '
+            f'{run.times[first + 1]:.2f} s (at most {limits.linear:g} m/s and '
+            f'{limits.angular:g} rad/s): something other than its commands moved it')

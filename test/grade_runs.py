@@ -10,11 +10,20 @@ import psutil
 TAG = 'GRADE_LAB_TEST_TAG'
 
 
-def tagged_processes(tag):
+def tagged_processes(tag, folder=None):
+    """
+    Return the running processes of a grading: tagged in their environment, or working in folder.
+
+    A submission runs with an environment of grade_lab's making (the tag is not in it), in its
+    folder of the test's.
+    """
     found = []
     for process in psutil.process_iter():
         try:
-            if process.environ().get(TAG) == tag and process.status() != psutil.STATUS_ZOMBIE:
+            if process.status() == psutil.STATUS_ZOMBIE or process.pid == os.getpid():
+                continue
+            if process.environ().get(TAG) == tag or (
+                    folder is not None and process.cwd().startswith(str(folder))):
                 found.append(process)
         except psutil.Error:
             continue
@@ -35,7 +44,7 @@ def grade(*arguments, timeout=600, cwd=None, sigint_ignored=False):
                      preexec_fn=ignore_sigint if sigint_ignored else None)
     finally:
         del os.environ[TAG]
-    left = tagged_processes(tag)
+    left = tagged_processes(tag, cwd)
     for process in left:
         process.kill()
     assert not left, f'processes left behind: {left}\n{result.stdout}\n{result.stderr}'

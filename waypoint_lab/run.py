@@ -16,6 +16,7 @@ No ROS here.
 """
 
 from bisect import bisect_right
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 import math
 import os
@@ -174,8 +175,11 @@ class _Reading:
 
     def _pose(self, message, sent):
         stamp = message.header.stamp
-        time = stamp.sec + stamp.nanosec * 1e-9
-        pose = pose_from_message(message.pose.pose)
+        self.add_pose(stamp.sec + stamp.nanosec * 1e-9, pose_from_message(message.pose.pose),
+                      sent)
+
+    def add_pose(self, time, pose, sent):
+        """Take a pose of the path stamped time (sim seconds), sent at sent (wall ns, order)."""
         if (not self.times or time > self.times[-1]) and _on_the_map(pose):
             self.times.append(time)
             self.poses.append(pose)
@@ -213,6 +217,24 @@ class _Reading:
         step = float(np.median(np.diff(times))) if len(times) > 1 else Run.step
         return Run(course, times, np.asarray(self.poses, dtype=float).reshape(-1, 3), reports,
                    len(stalled), min(stalled, default=None), step, cut_short, self.path_topic)
+
+
+def assemble_run(course: Course, path: Iterable[tuple], statuses: Iterable[tuple[int, str]],
+                 robot_name: str = 'robot0') -> Run:
+    """
+    Build a run from records rather than a bag, dated by the same rules (grade_lab's evidence).
+
+    path holds (sim seconds, (x, y, theta), wall ns sent, stalled) per step, in the order sent;
+    statuses (wall ns sent, text) per robot_status message.
+    """
+    reading = _Reading(robot_name.strip('/'), 'ground_truth')
+    for time, pose, sent, stalled in path:
+        reading.add_pose(time, pose, (sent, 0))
+        if stalled:
+            reading.stalls.append((sent, 0))
+    for sent, text in statuses:
+        reading.statuses.append(((sent, 0), text))
+    return reading.run(course, False)
 
 
 def _on_the_map(pose):

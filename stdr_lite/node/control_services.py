@@ -59,30 +59,35 @@ def world_resource(path):
 class SimulationControl:
     """Serves time and world control on a StdrLite node."""
 
-    def __init__(self, node, served: Served):
+    def __init__(self, node, served: Served, world_changing: bool = True):
+        """Serve the queries, and unless world_changing is False what changes the world."""
         self._node, self._served = node, served
         self._world = served.simulation.occupancy_map.source
         self._stepping = False
-        for kind, name, callback in (
-                (GetSimulatorFeatures, 'get_simulator_features', self._features),
-                (GetSimulationState, 'get_simulation_state', self._get_state),
-                (SetSimulationState, 'set_simulation_state', self._set_state),
-                (StepSimulation, 'step_simulation', self._step),
-                (ResetSimulation, 'reset_simulation', self._reset),
-                (GetAvailableWorlds, 'get_available_worlds', self._available_worlds),
-                (LoadWorld, 'load_world', self._load_world),
-                (GetCurrentWorld, 'get_current_world', self._current_world),
-                (UnloadWorld, 'unload_world', self._unload_world)):
+        services = [(GetSimulatorFeatures, 'get_simulator_features', self._features),
+                    (GetSimulationState, 'get_simulation_state', self._get_state),
+                    (GetAvailableWorlds, 'get_available_worlds', self._available_worlds),
+                    (GetCurrentWorld, 'get_current_world', self._current_world)]
+        if world_changing:
+            services += [(SetSimulationState, 'set_simulation_state', self._set_state),
+                         (StepSimulation, 'step_simulation', self._step),
+                         (ResetSimulation, 'reset_simulation', self._reset),
+                         (LoadWorld, 'load_world', self._load_world),
+                         (UnloadWorld, 'unload_world', self._unload_world)]
+        for kind, name, callback in services:
             node.requests.serve(kind, name, callback)
-        self._steps_action = ActionServer(
-            node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
-            goal_callback=node.guard(self._accept_goal, 'the simulate_steps goal',
-                                     lambda goal: GoalResponse.REJECT),
-            cancel_callback=lambda _: CancelResponse.ACCEPT)
+        self._steps_action = None
+        if world_changing:
+            self._steps_action = ActionServer(
+                node, SimulateSteps, '~/simulate_steps', self._simulate_steps,
+                goal_callback=node.guard(self._accept_goal, 'the simulate_steps goal',
+                                         lambda goal: GoalResponse.REJECT),
+                cancel_callback=lambda _: CancelResponse.ACCEPT)
 
     def destroy(self):
         """Destroy the action server: Node.destroy_node leaves it, and the node, alive."""
-        self._steps_action.destroy()
+        if self._steps_action is not None:
+            self._steps_action.destroy()
 
     @property
     def _state(self):

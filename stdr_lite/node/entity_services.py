@@ -55,20 +55,22 @@ RESOURCE_CODES = {'no_resource': SpawnResult.NO_RESOURCE,
 class EntityServices:
     """Serves spawning, deleting, querying and moving entities on a StdrLite node."""
 
-    def __init__(self, node, served: Served):
+    def __init__(self, node, served: Served, world_changing: bool = True):
+        """Serve the queries, and unless world_changing is False spawn, delete and move."""
         self._node, self._served = node, served
         self._simulation = served.simulation
-        for kind, name, callback in (
-                (SpawnEntity, 'spawn_entity', self._spawn_one),
-                (SpawnEntities, 'spawn_entities', self._spawn_many),
-                (DeleteEntity, 'delete_entity', self._delete),
-                (GetEntities, 'get_entities', self._entities),
-                (GetEntitiesStates, 'get_entities_states', self._entities_states),
-                (GetEntityInfo, 'get_entity_info', self._info),
-                (GetEntityState, 'get_entity_state', self._get_state),
-                (SetEntityState, 'set_entity_state', self._set_state),
-                (GetEntityBounds, 'get_entity_bounds', self._bounds),
-                (GetSpawnables, 'get_spawnables', self._spawnables)):
+        services = [(GetEntities, 'get_entities', self._entities),
+                    (GetEntitiesStates, 'get_entities_states', self._entities_states),
+                    (GetEntityInfo, 'get_entity_info', self._info),
+                    (GetEntityState, 'get_entity_state', self._get_state),
+                    (GetEntityBounds, 'get_entity_bounds', self._bounds),
+                    (GetSpawnables, 'get_spawnables', self._spawnables)]
+        if world_changing:
+            services += [(SpawnEntity, 'spawn_entity', self._spawn_one),
+                         (SpawnEntities, 'spawn_entities', self._spawn_many),
+                         (DeleteEntity, 'delete_entity', self._delete),
+                         (SetEntityState, 'set_entity_state', self._set_state)]
+        for kind, name, callback in services:
             node.requests.serve(kind, name, callback)
 
     def _spawn_one(self, request, response):

@@ -109,6 +109,11 @@ PARAMETERS = (
                   'the TF tree', ros_name=True),
     ParameterSpec('odom_frame_id', 'odom', "frame of a robot's odometry (REP-105), as "
                   '<robot>/odom', ros_name=True),
+    ParameterSpec('supervisor_fd', -1, 'a connected Unix socket inherited from a supervising '
+                  'process (grade_lab): the simulation starts paused and plays when it says '
+                  'so, the true state of every step goes to it, and nothing that moves, '
+                  'resets, steps, spawns or deletes is served; -1: none',
+                  Bounds(-1.0, 65535.0)),
     ParameterSpec('base_frame_id', 'base_link', 'frame of a robot body (REP-105), as '
                   '<robot>/base_link; its sensors are <robot>/<frame_id>', ros_name=True),
 )

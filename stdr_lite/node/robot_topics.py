@@ -55,7 +55,8 @@ class RobotTopics:
         self._prefix, self._frames = prefix, frames
         self._on_command = on_command
         self._command = self._command_subscription(TwistStamped if stamped else Twist)
-        self._pose_subscription = node.create_subscription(
+        # A supervised simulator (on_initial_pose None) lets nothing move a robot.
+        self._pose_subscription = None if on_initial_pose is None else node.create_subscription(
             PoseWithCovarianceStamped, f'{prefix}/initialpose',
             lambda message: on_initial_pose(name, message), 10)
         self.cmd_vel_topic = self._command.topic_name

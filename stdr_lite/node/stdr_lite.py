@@ -31,6 +31,7 @@ from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.served import Served
 from stdr_lite.node.stepper import Stepper
+from stdr_lite.node.supervisor_link import SupervisorLink
 
 DESCRIPTION = ('stdr_lite: a small STDR-equivalent simulator. For each robot, subscribes '
                '/<robot>/cmd_vel (geometry_msgs/Twist) and /<robot>/initialpose; publishes '
@@ -71,6 +72,16 @@ class StdrLite(GuardedNode):
             except NamingProblem as problem:
                 raise ConfigError(f'robot {shorten(name)}: {problem}') from None
         self._noted = set()
+        self._supervisor = None
+        if params['supervisor_fd'] >= 0:
+            try:
+                self._supervisor = SupervisorLink(
+                    self, int(params['supervisor_fd']),
+                    lambda: self.stepper.set_state(SimulationState.STATE_PLAYING),
+                    self.quit_soon)
+            except ValueError as error:
+                raise ConfigError(str(error)) from None
+        world_changing = self._supervisor is None
         for name in self.simulation.robot_names:
             self.note_description(name, self.simulation.robot(name).description)
         self.requests = RequestQueue(self)
@@ -97,9 +108,15 @@ class StdrLite(GuardedNode):
         served = Served(self.simulation, self.stepper, self.frames, self.search_path,
                         self.entity_topics, self.restart, self.show_state, self.note_description,
                         self.quit_soon)
-        self._control = SimulationControl(self, served)
-        EntityServices(self, served)
-        if params['paused']:
+        self._control = SimulationControl(self, served, world_changing)
+        EntityServices(self, served, world_changing)
+        if self._supervisor is not None:
+            settings = self.simulation.settings
+            self._supervisor.send_limits(
+                self.simulation.dt,
+                settings.max_linear_speed or settings.safety_linear_speed,
+                settings.max_angular_speed or settings.safety_angular_speed)
+        if params['paused'] or self._supervisor is not None:
             self.stepper.set_state(SimulationState.STATE_PAUSED)
         if params['lockstep']:
             self.simulation.odometry_due()
@@ -109,6 +126,7 @@ class StdrLite(GuardedNode):
                             for name in names) if len(names) <= 5 else f'{len(names)} robots')
         robots = robots or 'no robots'
         modes = ''.join(f', {mode}' for mode in ('lockstep', 'paused') if params[mode])
+        modes += ', supervised' if self._supervisor is not None else ''
         self.get_logger().info(
             f'{self.simulation.occupancy_map.source} {self.simulation.occupancy_map.width}x'
             f'{self.simulation.occupancy_map.height} cells, {robots}, {params["rate_hz"]:g} Hz '
@@ -141,7 +159,8 @@ class StdrLite(GuardedNode):
             if name not in self._topics:
                 self._topics[name] = RobotTopics(self, self.simulation.robot(name), self.frames,
                                                  self._stamped, self._on_cmd_vel,
-                                                 self._on_initial_pose, self._on_truth_reader,
+                                                 self._on_initial_pose if self._supervisor is None
+                                                 else None, self._on_truth_reader,
                                                  on_demand)
         self._frame_publisher.entities_changed()
         for topics in gone:
@@ -267,6 +286,8 @@ class StdrLite(GuardedNode):
             if topics.stall_listened:
                 topics.publish_stall(simulation.stalled(name))
         self._frame_publisher.publish_moving(simulation, now_ns)
+        if self._supervisor is not None:
+            self._supervisor.send_truth(simulation, now_ns)
 
     def _publish_sensors(self):
         """Read and publish the sensors that are due and that someone listens to."""

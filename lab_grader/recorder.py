@@ -1,0 +1,99 @@
+"""
+The grader's node in a course's domain.
+
+It records the run's bag, keeps every robot_status message with its send time (at most
+status_limit of them), and reads the graph for who publishes where.
+"""
+
+import time
+
+from lab_grader.publishers import Publisher
+from rclpy.logging import LoggingSeverity
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+from simple_robot_control.bag_recording import BagRecording
+from simple_robot_control.guarded_node import GuardedNode
+from std_msgs.msg import String
+from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.status import parse_status
+
+# Everything the run is judged by is kept, however far behind the recorder falls (a lockstep
+# simulator runs as fast as the controller answers): nothing is dropped from the queue. Reliable
+# readers match the simulator's publishers and the lab's status publisher (rclpy's default,
+# reliable and volatile) alike, transient-local ones too.
+JUDGED_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
+STATUS_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# The simulator's topics, which nothing else may publish on during a run.
+SIMULATOR_TOPICS = ('/clock', '/map', '/tf', '/tf_static')
+ROBOT_TOPICS = ('odom', 'ground_truth', 'stall')
+
+
+def status_limit(course) -> int:
+    """Return the most robot_status messages a run may send: ten times an honest run's, +100."""
+    return 10 * (len(course.waypoints) + 2) + 100
+
+
+class GradingRecorder(GuardedNode):
+    """Records the run's topics into its bag, keeps robot_status, and watches the publishers."""
+
+    def __init__(self, context, bag, robot_name, course):
+        # Each course's recorder is a node of this process: one rosout publisher per name.
+        super().__init__('grade_lab_recorder', context=context, enable_rosout=False)
+        self.get_logger().set_level(LoggingSeverity.WARN)
+        robot = f'/{robot_name}'
+        self.recording = BagRecording(self, bag, (f'/{COURSE_TOPIC}', '/map'), send_times=True,
+                                      course=course.waypoint_file.name)
+        self.simulator_topics = {f'{robot}/ground_truth': 'nav_msgs/msg/Odometry',
+                                 f'{robot}/stall': 'std_msgs/msg/Bool'}
+        self.watched = SIMULATOR_TOPICS + tuple(f'{robot}/{name}' for name in ROBOT_TOPICS)
+        # The truth over ROS is the bag's, and tells how far behind the recorder is.
+        self.truth_sent = self.truth_heard_at = 0
+        for topic, type_name in self.simulator_topics.items():
+            self.recording.record_now(topic, type_name, JUDGED_QOS,
+                                      self._on_truth if 'ground_truth' in topic else None)
+        self.ended_at = None
+        self.statuses = []
+        self.status_limit = status_limit(course)
+        # A transient-local status publisher (the lab's controller's) replays to the second
+        # subscription what the first missed while the publisher's side of the match lagged.
+        self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String', JUDGED_QOS,
+                                  self._on_status, STATUS_HISTORY)
+
+    @property
+    def simulator_matched(self) -> bool:
+        """Whether the simulator's topics recorded in the bag have their publisher matched."""
+        return all(self.recording.subscription(topic).get_publisher_count()
+                   for topic in self.simulator_topics)
+
+    @property
+    def status_publishers(self) -> int:
+        return self.recording.subscription(f'/{STATUS_TOPIC}').get_publisher_count()
+
+    @property
+    def flooded(self) -> bool:
+        return len(self.statuses) > self.status_limit
+
+    def _on_truth(self, _, sent):
+        self.truth_sent, self.truth_heard_at = sent or 0, time.monotonic()
+
+    def _on_status(self, data, sent):
+        if self.flooded:
+            return
+        text = deserialize_message(data, String).data
+        self.statuses.append((sent or time.time_ns(), text))
+        status = parse_status(text)
+        if status is not None and status.ends_run and self.ended_at is None:
+            self.ended_at = time.monotonic()
+
+    def publishers(self, topics) -> list[Publisher]:
+        """Return every publisher the graph shows on topics."""
+        return [Publisher(topic, f'{info.node_namespace.rstrip("/")}/{info.node_name}',
+                          bytes(info.endpoint_gid))
+                for topic in topics for info in self.get_publishers_info_by_topic(topic)]
+
+    def others(self) -> list[str]:
+        """Return the nodes of the graph, this one aside."""
+        return [f'{namespace.rstrip("/")}/{name}'
+                for name, namespace in self.get_node_names_and_namespaces()
+                if name != self.get_name()]
