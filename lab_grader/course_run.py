@@ -207,8 +207,8 @@ class _Run:
         self.fouls += [line for line in found.fouls if line not in self.fouls]
         self.strangers += [line for line in found.strangers if line not in self.strangers]
         if recorder.flooded:
-            self.fouls.append(f'sent more than {recorder.status_limit} messages on '
-                              f'robot_status (an honest run sends '
+            self.fouls.append(f'sent {recorder.sent_statuses} messages on robot_status, more '
+                              f'than {recorder.status_limit} (an honest run sends '
                               f'{len(self.course.waypoints) + 2}): the run was ended there')
         if self.fouls:
             raise Foul(self.fouls[0])

@@ -71,8 +71,14 @@ class GradingRecorder(GuardedNode):
         return self.recording.subscription(f'/{STATUS_TOPIC}').get_publisher_count()
 
     @property
+    def sent_statuses(self) -> int:
+        """Count the statuses sent: heard, or numbered by their publisher (one may outrun us)."""
+        return max(len(self.statuses),
+                   self.recording.highest_sequence.get(f'/{STATUS_TOPIC}', 0))
+
+    @property
     def flooded(self) -> bool:
-        return len(self.statuses) > self.status_limit
+        return self.sent_statuses > self.status_limit
 
     def _on_truth(self, _, sent):
         self.truth_sent, self.truth_heard_at = sent or 0, time.monotonic()

@@ -86,6 +86,9 @@ class BagRecording:
         self._patterns = tuple(patterns)
         self._recorded = {}
         self.received = Counter()
+        # With send_times: per topic, the highest sequence number of a message its publishers
+        # sent, which counts what they sent, heard or not.
+        self.highest_sequence = {}
         self._skipped = set()
         self._closed = False
         self._reported = False
@@ -163,6 +166,11 @@ class BagRecording:
 
         def write(data, info=None):
             sent = info and info['source_timestamp']
+            if info:
+                # How many its publisher has sent, heard or not (a reader keeps no more than
+                # its queue of a publisher that outruns it).
+                self.highest_sequence[topic] = max(self.highest_sequence.get(topic, 0),
+                                                   info.get('publication_sequence_number', 0))
             if seen is not None:
                 if (sent, data) in seen:
                     return

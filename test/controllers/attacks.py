@@ -150,7 +150,7 @@ def parent_of(pid):
 def tamper(folder):
     folder = Path(folder)
     for course in sorted(folder.glob('*.txt')):
-        course.write_text('1.0 2.0 0.0\n')
+        course.write_text('9.0 9.0 0.0\n')
         say(f'rewrote {course}')
     (folder / 'planted.txt').write_text('1.0 2.0 0.0\n')
     say(f'planted {folder / "planted.txt"}')

@@ -23,10 +23,9 @@ GROUPS = ('teleport', 'fake_truth', 'escape', 'kill_simulator', 'flood', 'hog', 
 
 @pytest.fixture(scope='module')
 def attacks(tmp_path_factory):
-    """Grade every attack on two courses, three at a time; give (result, report, courses)."""
+    """Grade every attack on a course ahead of the robot, three at a time; give the runs."""
     root = tmp_path_factory.mktemp('attacks')
     courses = root / 'courses'
-    write_course(courses, 'here', '1.0 2.0 0.0', time_limit=8)
     write_course(courses, 'ahead', '3.0 2.0 0.0', time_limit=8)
     before = {path.name: path.read_bytes() for path in courses.iterdir()}
     groups = root / 'groups'
@@ -60,52 +59,50 @@ def test_the_simulator_offers_no_way_to_move_the_robot(attacks):
 
 def test_truth_odometry_or_clock_published_by_the_submission_fails_it(attacks):
     _, report, _ = attacks
-    for course in ('here', 'ahead'):
-        failed = failures(report, 'fake_truth', course)
-        assert 'fair play' in failed, failed
-        assert re.search('/(robot0/ground_truth|robot0/odom|clock) was published by node '
-                         "'/attacker' of the submission", failed['fair play'])
+    failed = failures(report, 'fake_truth', 'ahead')
+    assert 'fair play' in failed, failed
+    assert re.search('/(robot0/ground_truth|robot0/odom|clock) was published by node '
+                     "'/attacker' of the submission", failed['fair play'])
 
 
 def test_a_daemon_that_left_with_env_i_is_ended_and_named(attacks):
     _, report, _ = attacks
-    pid = int(re.search(r'attack: daemon pid (\d+)', output(report, 'escape', 'here')).group(1))
+    pid = int(re.search(r'attack: daemon pid (\d+)', output(report, 'escape', 'ahead')).group(1))
     assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == psutil.STATUS_ZOMBIE
-    failed = failures(report, 'escape', 'here')
-    assert set(failed) == {'ends when asked'}
+    failed = failures(report, 'escape', 'ahead')
+    assert set(failed) == {'WAYPOINT 1', 'ends when asked'}
     assert f'pid {pid}' in failed['ends when asked']
 
 
 def test_killing_the_simulator_or_flooding_the_status_is_a_fail_not_an_error(attacks):
     result, report, _ = attacks
     assert 'kill_simulator' in result.stdout and 'ERROR' not in result.stdout, result.stdout
-    assert 'attack: killed the simulator' in output(report, 'kill_simulator', 'here')
-    killed = failures(report, 'kill_simulator', 'here')['fair play']
+    assert 'attack: killed the simulator' in output(report, 'kill_simulator', 'ahead')
+    killed = failures(report, 'kill_simulator', 'ahead')['fair play']
     assert 'the simulator was ended during the run (killed by signal 9), not by the grader' \
         in killed
-    flooded = failures(report, 'flood', 'here')['fair play']
-    assert 'sent more than 130 messages on robot_status' in flooded
+    flooded = failures(report, 'flood', 'ahead')['fair play']
+    assert re.search('sent [0-9]+ messages on robot_status, more than 130', flooded)
 
 
 def test_a_submission_over_its_memory_fails_saying_so(attacks):
     _, report, _ = attacks
-    failed = failures(report, 'hog', 'here')
+    failed = failures(report, 'hog', 'ahead')
     assert 'ran out of the memory grade_lab --memory allows' in failed['ends when asked']
 
 
 def test_nothing_the_submission_sees_names_the_courses_or_the_reports(attacks):
     _, report, root = attacks
-    snooped = output(report, 'snoop', 'here')
+    snooped = output(report, 'snoop', 'ahead')
     assert 'attack: snooped ancestor' in snooped and 'attack: snooped simulator' in snooped
     for folder in (root / 'courses', report):
         assert str(folder) not in snooped
-    assert failures(report, 'snoop', 'here') == {}
+    assert set(failures(report, 'snoop', 'ahead')) == {'WAYPOINT 1'}
 
 
 def test_courses_changed_or_planted_by_a_submission_are_put_back_and_fail_it(tmp_path):
     courses = tmp_path / 'courses'
     write_course(courses, 'here', '1.0 2.0 0.0', time_limit=8)
-    write_course(courses, 'other', '5.0 5.0 0.0')
     before = {path.name: path.read_bytes() for path in courses.iterdir()}
     (tmp_path / 'group').mkdir()
     (tmp_path / 'group' / 'behaviour').write_text(f'tamper {courses}')
@@ -114,5 +111,5 @@ def test_courses_changed_or_planted_by_a_submission_are_put_back_and_fail_it(tmp
     assert result.returncode == 1, result.stdout + result.stderr
     assert {path.name: path.read_bytes() for path in courses.iterdir()} == before
     page = (tmp_path / 'report' / 'report.md').read_text()
-    assert 'other.txt was changed or removed during the run (put back)' in page
+    assert 'here.txt was changed or removed during the run (put back)' in page
     assert 'planted.txt was made in the courses' in page
