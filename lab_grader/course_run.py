@@ -168,6 +168,8 @@ class _Run:
         self.claim = self.context = self.simulator = self.link = None
         self.recorder = self.executor = self.submission = None
         self.fouls, self.strangers = [], []
+        # What the recorder leaves once taken down: the statuses, and why the bag failed if so.
+        self.recorder_statuses, self.recorder_failure = [], ''
         self.submission_pids = set()
         self._last_heard = (time.monotonic(), 0)
         self._watched_at = 0.0
@@ -363,9 +365,6 @@ class _Run:
             self.executor.shutdown()
             self.recorder.destroy_node()
             self.recorder = None
-
-    recorder_statuses = ()
-    recorder_failure = ''
 
     def close(self):
         """Stop whatever of the run still goes (the submission before); again is harmless."""
