@@ -65,7 +65,8 @@ def marked(marker: str) -> list[psutil.Process]:
 def describe(process: psutil.Process) -> str:
     """Name a process: its pid and command line, cut short."""
     try:
-        command = ' '.join(process.cmdline()) or process.name()
+        # One line, whatever the arguments hold (python -c code has newlines).
+        command = ' '.join(' '.join(process.cmdline()).split()) or process.name()
     except psutil.Error:
         command = '?'
     return f'pid {process.pid} ({command[:80]})'
