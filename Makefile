@@ -41,6 +41,7 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.viewer
 	$(PYTHON) -m bench.requests
 	$(PYTHON) -m bench.recorder
+	$(PYTHON) -m bench.live_view
 	$(PYTHON) -m bench.learning
 
 # A policy learned end to end: PPO (Stable-Baselines3, torch on the CPU) trains on the lab's

@@ -8,14 +8,20 @@ wire: the file and the socket carry the same thing. A topic is subscribed in ROS
 client subscribes to its channel (Foxglove asks for what its panels show), so what nobody
 watches costs nothing. A transient-local topic (the map, /tf_static, the course) keeps its last
 messages for a client that subscribes once it is subscribed already, as ROS gives them to a late
-subscriber. A topic with no publisher left (a deleted robot's) is withdrawn; hidden topics (an
-action's, as `ros2 topic list` hides them) are not offered.
+subscriber; the SDK sends a channel's messages to every client watching it, so those kept
+messages are sent again at most once every REPLAY_PERIOD, however many clients come (200 idle
+clients arriving would otherwise queue 20,000 copies of the map). A topic with no publisher
+left (a deleted robot's) is withdrawn; hidden topics (an action's, as `ros2 topic list` hides
+them) are not offered.
 
 Clients may publish (Foxglove's Teleop panel) on topics matching the command patterns only, as
 geometry_msgs Twist or TwistStamped in CDR; any other advertisement is refused with a status
 the client shows and a log line, and so is a message that is malformed, oversized or not
 finite. The SDK keeps at most BACKLOG messages for each client and drops the oldest when one
-falls behind, so a slow or vanished client never holds up the node, let alone the simulator.
+falls behind, so a slow or vanished client never holds up the node, let alone the simulator,
+nor another client (bench/live_view.py: 200 idle clients, a reading client's share). What a
+client held is freed when it leaves; the C library keeps freed memory for reuse, so it is handed
+back to the system (malloc_trim) once clients have left.
 
 The SDK calls the listener from its own threads: those only note what changed, under a lock,
 and a timer of the node's acts on it within WORK_PERIOD (rclpy's EventsExecutor takes no guard
@@ -23,6 +29,8 @@ condition): everything ROS is done by the node's executor.
 """
 
 from collections import Counter, deque
+import ctypes
+import ctypes.util
 from fnmatch import fnmatchcase
 import ipaddress
 import logging
@@ -52,6 +60,10 @@ MAX_COMMAND_BYTES = 1024
 INBOX = 256
 # Messages of a transient-local topic kept for clients that subscribe later.
 KEEP = 100
+# A transient-local topic's kept messages are sent again at most this often (s).
+REPLAY_PERIOD = 1.0
+# Memory is handed back to the system this long after a client left (s).
+RELEASE_AFTER = 1.0
 COMMAND_TYPES = {'geometry_msgs/msg/Twist': Twist, 'geometry_msgs/Twist': Twist,
                  'geometry_msgs/msg/TwistStamped': TwistStamped,
                  'geometry_msgs/TwistStamped': TwistStamped}
@@ -68,6 +80,7 @@ class _Topic:
         self.qos = qos
         self.kept = deque(maxlen=min(qos.depth, KEEP)) if latched else None
         self.subscription = None
+        self.replayed_at = -REPLAY_PERIOD
 
 
 class LiveView:
@@ -90,6 +103,7 @@ class LiveView:
         self._watchers, self._replays = Counter(), set()
         self._accepted, self._refused = {}, set()
         self._inbox = deque(maxlen=INBOX)
+        self._left_at = None
         self._publishers = {}
         self._log = _SdkLog(node.get_logger(), backlog)
         self._changed = True
@@ -152,28 +166,49 @@ class LiveView:
         """Subscribe what clients watch, replay kept messages, publish the commands received."""
         if not self._changed:
             return
+        now = time.monotonic()
         with self._lock:
             self._changed = False
             watched = {channel for channel, count in self._watchers.items() if count > 0}
             replays, self._replays = self._replays, set()
             commands = list(self._inbox)
             self._inbox.clear()
+            left_at = self._left_at
         for channel_id, topic in self._by_channel.items():
             entry = self._topics[topic]
             if channel_id in watched and entry.subscription is None:
                 # A new subscription gets a transient-local topic's history from ROS itself.
                 entry.subscription = self._node.create_subscription(
                     entry.kind, topic, self._forwarder(entry), entry.qos, raw=True)
+                entry.replayed_at = now
             elif channel_id not in watched and entry.subscription is not None:
                 self._node.destroy_subscription(entry.subscription)
                 entry.subscription = None
                 if entry.kept is not None:
                     entry.kept.clear()
             elif channel_id in replays and entry.kept:
+                if now - entry.replayed_at < REPLAY_PERIOD:
+                    self._later(replay=channel_id)
+                    continue
+                entry.replayed_at = now
                 for data in list(entry.kept):
                     entry.channel.log(data)
         for key, data in commands:
             self._publish(key, data)
+        if left_at is not None:
+            if now - left_at < RELEASE_AFTER:
+                self._later()
+            else:
+                with self._lock:
+                    self._left_at = None
+                release_freed_memory()
+
+    def _later(self, replay=None):
+        """Have the next _work look again (at a replay or a release not yet due)."""
+        with self._lock:
+            if replay is not None:
+                self._replays.add(replay)
+            self._changed = True
 
     def _forwarder(self, entry):
         def forward(data):
@@ -218,6 +253,8 @@ class LiveView:
             self._watchers[channel_id] += change
             if change > 0:
                 self._replays.add(channel_id)
+            else:
+                self._left_at = time.monotonic()
             self._changed = True
 
     def advertised(self, client, channel):
@@ -317,6 +354,28 @@ class _Listener(foxglove.websocket.ServerListener):
 
     def on_message_data(self, client, client_channel_id, data):
         self._view.received(client, client_channel_id, data)
+
+
+def _c_library_trim():
+    """Return glibc's malloc_trim, or None where the C library has none (musl, macOS)."""
+    try:
+        return ctypes.CDLL(ctypes.util.find_library('c')).malloc_trim
+    except (AttributeError, OSError, TypeError):
+        return None
+
+
+_MALLOC_TRIM = _c_library_trim()
+
+
+def release_freed_memory() -> None:
+    """
+    Hand the memory freed by the C library back to the system.
+
+    glibc keeps what was freed for later allocations: after 200 clients left, foxglove_live
+    kept 380 MB it no longer used, 120 MB once trimmed (measured with bench/live_view.py).
+    """
+    if _MALLOC_TRIM is not None:
+        _MALLOC_TRIM(0)
 
 
 def is_loopback(host: str) -> bool:

@@ -3,7 +3,7 @@
 import math
 import time
 
-from foxglove_client import FoxgloveClient
+from bench.foxglove_client import FoxgloveClient
 from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import OccupancyGrid, Odometry
 import pytest

@@ -25,3 +25,10 @@ def test_the_requests_bench_prints_each_burst_against_its_target():
 def test_the_recorder_bench_prints_what_it_kept_of_what_was_sent():
     assert_smoke_run_prints('recorder', r'^record_run, 5 robots at 10 Hz: 5 odometry topics, .*: '
                             r'\d\.\d{3} of what was sent recorded$')
+
+
+def test_the_live_view_bench_prints_a_reading_clients_share_and_the_memory():
+    assert_smoke_run_prints(
+        'live_view', r'^foxglove_live, a reading client on /clock: \d\.\d{3} of the ticks alone, '
+        r'\d\.\d{3} beside 3 idle clients: \d+\.\d\d of its share$',
+        r'^foxglove_live memory: \d+ MB before, \d+ MB with the idle clients, \d+ MB after')

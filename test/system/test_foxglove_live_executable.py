@@ -9,7 +9,8 @@ import subprocess
 import sys
 import time
 
-from foxglove_client import FoxgloveClient
+from bench.foxglove_client import FoxgloveClient
+from bench.live_view import measure
 from mcap.reader import make_reader
 from processes import run, start_logged, stop, wait_for_text, wait_until
 import pytest
@@ -28,9 +29,10 @@ LINE = re.compile(r'connect to ws://localhost:(\d+) \(from another machine: '
 @pytest.fixture
 def serve(tmp_path):
     """
-    Give a function running stdr_lite and foxglove_live on a free port; it gives (port, log).
+    Give a function running stdr_lite and foxglove_live on a free port.
 
-    Its argument is the simulator's real_time_factor (0: as fast as it goes).
+    Its argument is the simulator's real_time_factor (0: as fast as it goes); it gives (port,
+    log, foxglove_live's process).
     """
     processes = []
 
@@ -41,7 +43,7 @@ def serve(tmp_path):
         log = tmp_path / 'foxglove_live.log'
         processes.append(start_logged('foxglove_live', '--ros-args', '-p', 'port:=0', log=log))
         said = wait_for_text(log, 'connect to ws://', processes[-1])
-        return int(LINE.search(said).group(1)), log
+        return int(LINE.search(said).group(1)), log, processes[-1]
     yield start
     for process in reversed(processes):
         assert stop(process, signal.SIGINT)[0] == 0
@@ -58,7 +60,7 @@ def advertised(port, topics):
 
 
 def test_a_client_falling_behind_is_said_once_and_served_again(serve):
-    port, log = serve(0.0)  # as fast as it goes: much to send
+    port, log, _ = serve(0.0)  # as fast as it goes: much to send
     slow = FoxgloveClient(port, receive_buffer=4096)
     wait_until(lambda: slow.poll() or '/clock' in slow.channels, '/clock offered')
     slow.subscribe(*slow.channels)
@@ -78,8 +80,15 @@ def test_a_client_falling_behind_is_said_once_and_served_again(serve):
     slow.close()
 
 
+def test_clients_that_never_read_take_nothing_from_one_that_does_and_give_back_memory(serve):
+    port, _, live = serve(1.0)
+    figures = measure(port, live, idle_clients=20, seconds=3.0)
+    assert figures.alone > 0.9 and figures.beside > 0.9, figures
+    assert figures.after_mb <= figures.baseline_mb * 1.1, figures
+
+
 def test_a_hostile_client_gets_answers_and_the_node_one_line_each(serve):
-    port, log = serve(1.0)
+    port, log, _ = serve(1.0)
     hostile = advertised(port, ['/robot0/odom'])
     ids = [channel['id'] for channel in hostile.channels.values()]
     for round_number in range(50):

@@ -1,4 +1,4 @@
-"""A client of Foxglove's WebSocket protocol for the tests: what the Foxglove app sends, reads."""
+"""A client of Foxglove's WebSocket protocol for tests and benches: what the Foxglove app sends."""
 
 from collections import defaultdict
 from contextlib import ExitStack
@@ -19,7 +19,8 @@ class FoxgloveClient:
 
     channels holds the advertised channels by topic, messages each subscribed topic's
     (log time, payload) pairs, statuses the server's status messages. receive_buffer, if
-    given, shrinks the socket's buffer, to make a slow client.
+    given, shrinks the socket's buffer, to make a slow client. It sends no keepalive pings: a
+    client that reads nothing would see no pong behind the data queued for it and close itself.
     """
 
     def __init__(self, port, receive_buffer=None):
@@ -31,7 +32,7 @@ class FoxgloveClient:
         self._connection = ExitStack()
         self.socket = self._connection.enter_context(connect(
             f'ws://127.0.0.1:{port}', sock=sock, subprotocols=[SUBPROTOCOL], open_timeout=10.0,
-            max_size=None))
+            max_size=None, ping_interval=None))
         self.server_info = None
         self.channels = {}
         self.messages = defaultdict(list)
