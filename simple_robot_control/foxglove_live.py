@@ -7,6 +7,8 @@ another machine `ssh -L 8765:localhost:8765 <host>` is all it takes. With bag se
 the same topics too (see bag_recording.py): one process, file and socket.
 """
 
+import ipaddress
+import socket
 import sys
 
 from rclpy.task import Future
@@ -66,10 +68,27 @@ class FoxgloveLive(GuardedNode):
 
 def connection_line(host: str, port: int) -> str:
     """Return the line telling a user where to point Foxglove, from here or through ssh."""
+    if is_wildcard(host):
+        # 0.0.0.0 or :: is where a server listens (every address), never one to connect to.
+        return (f'foxglove_live: open Foxglove and connect to ws://localhost:{port} (from '
+                f'another machine: ws://{socket.gethostname()}:{port})')
     if exposure_line(host, port) is not None:
-        return f'foxglove_live: open Foxglove and connect to ws://{host}:{port}'
+        return f'foxglove_live: open Foxglove and connect to ws://{url_host(host)}:{port}'
     return (f'foxglove_live: open Foxglove and connect to ws://localhost:{port} (from another '
             f'machine: ssh -L {port}:localhost:{port} <this machine>, then the same)')
+
+
+def is_wildcard(host: str) -> bool:
+    """Whether host is the unspecified address (0.0.0.0, ::): every interface of this machine."""
+    try:
+        return ipaddress.ip_address(host).is_unspecified
+    except ValueError:
+        return False
+
+
+def url_host(host: str) -> str:
+    """Return host as a URL writes it: an IPv6 address in brackets."""
+    return f'[{host}]' if ':' in host else host
 
 
 def main(argv=None):

@@ -14,10 +14,8 @@ clients arriving would otherwise queue 20,000 copies of the map). A topic with n
 left (a deleted robot's) is withdrawn; hidden topics (an action's, as `ros2 topic list` hides
 them) are not offered.
 
-Clients may publish (Foxglove's Teleop panel) on topics matching the command patterns only, as
-geometry_msgs Twist or TwistStamped in CDR; any other advertisement is refused with a status
-the client shows and a log line, and so is a message that is malformed, oversized or not
-finite. The SDK keeps at most BACKLOG messages for each client and drops the oldest when one
+Clients may publish (Foxglove's Teleop panel) on the command topics: see live_commands.py.
+The SDK keeps at most BACKLOG messages for each client and drops the oldest when one
 falls behind, so a slow or vanished client never holds up the node, let alone the simulator,
 nor another client (bench/live_view.py: 200 idle clients, a reading client's share). What a
 client held is freed when it leaves; the C library keeps freed memory for reuse, so it is handed
@@ -34,19 +32,17 @@ import ctypes.util
 from fnmatch import fnmatchcase
 import ipaddress
 import logging
-import math
 import re
 import threading
 import time
 
 import foxglove
 from foxglove.websocket import Capability, StatusLevel
-from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.clock import Clock, ClockType
-from rclpy.serialization import deserialize_message
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, message_definition
 from simple_robot_control.bag_recording import message_class, subscription_qos
+from simple_robot_control.live_commands import CommandChannels
 from simple_robot_control.node_runtime import ConfigError
 
 GRAPH_PERIOD = 0.5
@@ -54,19 +50,12 @@ GRAPH_PERIOD = 0.5
 WORK_PERIOD = 0.02
 # Messages queued for each client before the oldest are dropped (the SDK's default).
 BACKLOG = 1024
-# A Twist is 52 bytes in CDR, a TwistStamped with a long frame id a few hundred.
-MAX_COMMAND_BYTES = 1024
-# Commands waiting for the executor; a flood beyond this loses its oldest.
-INBOX = 256
 # Messages of a transient-local topic kept for clients that subscribe later.
 KEEP = 100
 # A transient-local topic's kept messages are sent again at most this often (s).
 REPLAY_PERIOD = 1.0
 # Memory is handed back to the system this long after a client left (s).
 RELEASE_AFTER = 1.0
-COMMAND_TYPES = {'geometry_msgs/msg/Twist': Twist, 'geometry_msgs/Twist': Twist,
-                 'geometry_msgs/msg/TwistStamped': TwistStamped,
-                 'geometry_msgs/TwistStamped': TwistStamped}
 # A line of the SDK's (a client's bad frame, a full outbox) is repeated at most this often.
 REPEAT_AFTER = 10.0
 
@@ -87,7 +76,7 @@ class LiveView:
     """
     Serves the topics matching patterns to Foxglove clients on host:port, on behalf of node.
 
-    Clients may publish on the topics matching commands (see the module's docstring); each
+    Clients may publish on the topics matching commands (see live_commands.py); each
     client gets at most backlog messages queued.
     """
 
@@ -95,16 +84,13 @@ class LiveView:
                  backlog=BACKLOG):
         self._node = node
         self._patterns = tuple(patterns)
-        self._commands = tuple(commands)
+        self.commands = CommandChannels(node, commands, self._report)
         self._context = foxglove.Context()
         self._topics, self._by_channel, self._skipped = {}, {}, set()
         self._lock = threading.Lock()
         # Written by the SDK's threads, read by the executor, under the lock.
         self._watchers, self._replays = Counter(), set()
-        self._accepted, self._refused = {}, set()
-        self._inbox = deque(maxlen=INBOX)
         self._left_at = None
-        self._publishers = {}
         self._log = _SdkLog(node.get_logger(), backlog)
         self._changed = True
         try:
@@ -163,7 +149,8 @@ class LiveView:
         entry.channel.close()
 
     def _work(self):
-        """Subscribe what clients watch, replay kept messages, publish the commands received."""
+        """Act on the commands received, then subscribe what clients watch, replay kept ones."""
+        self.commands.work()
         if not self._changed:
             return
         now = time.monotonic()
@@ -171,8 +158,6 @@ class LiveView:
             self._changed = False
             watched = {channel for channel, count in self._watchers.items() if count > 0}
             replays, self._replays = self._replays, set()
-            commands = list(self._inbox)
-            self._inbox.clear()
             left_at = self._left_at
         for channel_id, topic in self._by_channel.items():
             entry = self._topics[topic]
@@ -193,8 +178,6 @@ class LiveView:
                 entry.replayed_at = now
                 for data in list(entry.kept):
                     entry.channel.log(data)
-        for key, data in commands:
-            self._publish(key, data)
         if left_at is not None:
             if now - left_at < RELEASE_AFTER:
                 self._later()
@@ -217,35 +200,6 @@ class LiveView:
             entry.channel.log(data)
         return forward
 
-    def _publish(self, key, data):
-        topic, kind = self._accepted.get(key, (None, None))
-        if topic is None:
-            return  # the client took its channel back while the message waited
-        try:
-            message = deserialize_message(data, kind)
-        except Exception:  # noqa: B902  rclpy raises its RMWError, or others, on bad CDR
-            self._refuse_once(key, 'malformed', f'a message on {topic} that is no '
-                              f'{kind.__name__} in CDR')
-            return
-        twist = message.twist if kind is TwistStamped else message
-        values = (twist.linear.x, twist.linear.y, twist.linear.z,
-                  twist.angular.x, twist.angular.y, twist.angular.z)
-        if not all(map(math.isfinite, values)):
-            self._refuse_once(key, 'not finite', f'a command on {topic} that is not finite')
-            return
-        publisher = self._publishers.get((topic, kind))
-        if publisher is None:
-            publisher = self._publishers[topic, kind] = self._node.create_publisher(
-                kind, topic, 10)
-        publisher.publish(message)
-
-    def _refuse_once(self, key, kind, what):
-        """Log one line for the first message of a kind that a client channel has dropped."""
-        if (key, kind) not in self._refused:
-            self._refused.add((key, kind))
-            self._node.get_logger().warn(f'Foxglove client {key[0]}: dropped {what} (and '
-                                         'any more like it)')
-
     # Called by the SDK's threads (see _Listener): they note, the executor acts.
 
     def watched(self, channel_id, change):
@@ -257,39 +211,10 @@ class LiveView:
                 self._left_at = time.monotonic()
             self._changed = True
 
-    def advertised(self, client, channel):
-        problem = self._command_problem(channel)
-        if problem is None:
-            self._accepted[client.id, channel.id] = (channel.topic,
-                                                     COMMAND_TYPES[channel.schema_name])
-            return
-        text = f'Foxglove client {client.id}: cannot publish on {channel.topic}: {problem}'
+    def _report(self, text):
+        """Tell every client (Foxglove shows a status) and the log."""
         self.server.publish_status(text, StatusLevel.Error)
         self._node.get_logger().warn(text)
-
-    def _command_problem(self, channel):
-        if not any(fnmatchcase(channel.topic, pattern) for pattern in self._commands):
-            return f'only {", ".join(self._commands)} take messages from Foxglove'
-        if channel.schema_name not in COMMAND_TYPES:
-            return f'{channel.schema_name} is no geometry_msgs/msg/Twist or TwistStamped'
-        if channel.encoding != 'cdr':
-            return f'its encoding {channel.encoding} is not cdr'
-        return None
-
-    def unadvertised(self, client, channel_id):
-        self._accepted.pop((client.id, channel_id), None)
-
-    def received(self, client, channel_id, data):
-        key = (client.id, channel_id)
-        if key not in self._accepted:
-            self._refuse_once(key, 'refused', 'a message on a channel it may not publish on')
-        elif len(data) > MAX_COMMAND_BYTES:
-            self._refuse_once(key, 'oversized', f'a message of {len(data)} bytes (at most '
-                              f'{MAX_COMMAND_BYTES})')
-        else:
-            with self._lock:
-                self._inbox.append((key, bytes(data)))
-                self._changed = True
 
     def close(self):
         """Stop serving: clients are disconnected."""
@@ -347,13 +272,13 @@ class _Listener(foxglove.websocket.ServerListener):
         self._view.watched(channel.id, -1)
 
     def on_client_advertise(self, client, channel):
-        self._view.advertised(client, channel)
+        self._view.commands.advertised(client.id, channel)
 
     def on_client_unadvertise(self, client, client_channel_id):
-        self._view.unadvertised(client, client_channel_id)
+        self._view.commands.unadvertised(client.id, client_channel_id)
 
     def on_message_data(self, client, client_channel_id, data):
-        self._view.received(client, client_channel_id, data)
+        self._view.commands.received(client.id, client_channel_id, data)
 
 
 def _c_library_trim():

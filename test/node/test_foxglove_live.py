@@ -14,6 +14,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.bag import message_definition
 from simple_robot_control.foxglove_live import FoxgloveLive
+from simple_robot_control.live_commands import PER_CLIENT
 from simulation_interfaces.msg import Result
 from simulation_interfaces.srv import DeleteEntity, SpawnEntity
 from std_msgs.msg import String
@@ -228,3 +229,37 @@ def test_spawned_robots_appear_and_deleted_ones_go(live, executor):
                what='the deleted robot withdrawn')
     assert '/robot0/odom' in client.channels
     client.close()
+
+
+def test_command_channels_are_bounded_kept_to_robots_that_exist_and_let_go(live, executor):
+    _, sim_client, node = live
+    client = connected(executor, node)
+    channel = client.advertise('/robot0/cmd_vel', 'geometry_msgs/msg/Twist')
+    spin_until(executor, lambda: node.live.commands.publishers() == 1, what="robot0's publisher")
+
+    def refused(count):
+        def enough():
+            client.poll()
+            return len(client.statuses) >= count
+        return enough
+    for index in range(200):
+        client.advertise(f'/ghost{index}/cmd_vel', 'geometry_msgs/msg/Twist')
+    spin_until(executor, refused(2), what='the ghosts refused')
+    spin_until(executor, lambda: node.live.commands.claimed() == 1, what='the ghosts let go')
+    client.advertise('/robot0/cmd_vel', 'geometry_msgs/msg/TwistStamped')
+    spin_until(executor, refused(3), what='a TwistStamped refused where a Twist is subscribed')
+    said = ' | '.join(status['message'] for status in client.statuses)
+    assert len(client.statuses) == 3, said
+    assert f'/ghost{PER_CLIENT - 1}/cmd_vel: a client may publish on {PER_CLIENT} channels at ' \
+        'most (and any more like it)' in said
+    assert '/ghost0/cmd_vel: nothing subscribes to it as geometry_msgs/msg/Twist (no such ' \
+        'robot) (and any more like it)' in said
+    assert '/robot0/cmd_vel: nothing subscribes to it as geometry_msgs/msg/TwistStamped' in said
+    assert node.live.commands.publishers() == 1
+    assert not sim_client.get_publishers_info_by_topic('/ghost0/cmd_vel')
+    client.publish(channel, serialize_message(Twist(linear=Vector3(x=0.1))))
+    client.close()
+    # The client gone, its publisher goes: a controller may then publish on the robot's cmd_vel.
+    spin_until(executor, lambda: not node.count_publishers('/robot0/cmd_vel'),
+               what='the publisher of the client that left destroyed')
+    assert node.live.commands.publishers() == 0

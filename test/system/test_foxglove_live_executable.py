@@ -16,6 +16,7 @@ from processes import run, start_logged, stop, wait_for_text, wait_until
 import pytest
 from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
+from simple_robot_control.foxglove_live import connection_line
 from simple_robot_control.live_view import exposure_line
 from std_msgs.msg import String
 import yaml
@@ -139,6 +140,19 @@ def test_loopback_is_served_quietly(host):
 def test_any_other_address_is_said_to_be_open_to_the_network(host):
     assert exposure_line(host, 8765).startswith(
         f'Foxglove is served on {host}:8765: open to the network')
+
+
+@pytest.mark.parametrize('host', ['0.0.0.0', '::'])
+def test_a_wildcard_address_is_never_printed_as_one_to_connect_to(host):
+    line = connection_line(host, 8765)
+    assert line.startswith('foxglove_live: open Foxglove and connect to ws://localhost:8765 '
+                           f'(from another machine: ws://{socket.gethostname()}:8765)')
+    assert host not in line.replace('8765', '')
+
+
+def test_a_named_address_is_printed_as_a_url_writes_it():
+    assert connection_line('192.168.1.20', 8765).endswith('connect to ws://192.168.1.20:8765')
+    assert connection_line('fd00::20', 8765).endswith('connect to ws://[fd00::20]:8765')
 
 
 def free_port():

@@ -1,21 +1,23 @@
-"""The bundled Foxglove layout is what Foxglove's layout types make of the lab's scene."""
+"""The bundled Foxglove layout: the lab's scene, in the file format the Foxglove app imports."""
 
 import json
 from pathlib import Path
 
+import pytest
 from stdr_lite.core.loading import robot_file
 from stdr_lite.core.robot_description import load_robot
-from waypoint_lab.foxglove_layout import lab_layout, LASERS, layout_text, SONARS
+from waypoint_lab.foxglove_layout import app_layout, lab_layout, LASERS, layout_text, SONARS
 
 BUNDLED = Path(__file__).resolve().parents[2] / 'config' / 'foxglove_lab_layout.json'
 
 
-def panels(content):
-    """Yield every panel of a layout's content, depth first."""
-    if content['type'] == 'panel':
-        yield content
-    for item in content.get('items', []):
-        yield from panels(item['content'])
+def leaves(tree):
+    """Yield the panel ids of the app's layout tree, left to right."""
+    if isinstance(tree, str):
+        yield tree
+    else:
+        yield from leaves(tree['first'])
+        yield from leaves(tree['second'])
 
 
 def test_the_bundled_file_is_the_layout_made_now():
@@ -23,12 +25,29 @@ def test_the_bundled_file_is_the_layout_made_now():
         'run: python -m waypoint_lab.foxglove_layout > config/foxglove_lab_layout.json')
 
 
+def test_the_file_has_the_apps_layout_format():
+    """Keys and tree as the app exports a layout (Foxglove Studio's LayoutData)."""
+    layout = json.loads(BUNDLED.read_text())
+    assert set(layout) == {'configById', 'globalVariables', 'userNodes', 'playbackConfig',
+                           'layout'}
+    assert list(leaves(layout['layout'])) == list(layout['configById'])
+    assert all(panel_id.count('!') == 1 for panel_id in layout['configById'])
+    # The scene takes two thirds of the width, the side's three panels a third of its height each.
+    assert layout['layout']['direction'] == 'row'
+    assert layout['layout']['splitPercentage'] == pytest.approx(200 / 3)
+    side = layout['layout']['second']
+    assert (side['direction'], side['splitPercentage']) == ('column', pytest.approx(100 / 3))
+    assert side['second']['splitPercentage'] == pytest.approx(50)
+
+
 def test_the_layout_shows_the_lab_and_drives_its_robot():
-    layout = json.loads(lab_layout().to_json())
-    by_type = {panel['panelType']: panel['config'] for panel in panels(layout['content'])}
-    assert set(by_type) == {'ThreeDee', 'RawMessages', 'Teleop', 'Plot'}
-    assert by_type['ThreeDee']['followTf'] == 'map'
-    assert {'/map', '/waypoints', '/robot0/laser_0'} <= set(by_type['ThreeDee']['topics'])
+    layout = app_layout(lab_layout())
+    by_type = {panel_id.split('!')[0]: config
+               for panel_id, config in layout['configById'].items()}
+    assert set(by_type) == {'3D', 'RawMessages', 'Teleop', 'Plot'}
+    assert by_type['3D']['followTf'] == 'map'
+    assert by_type['3D']['foxglovePanelTitle'] == 'The lab room'
+    assert {'/map', '/waypoints', '/robot0/laser_0'} <= set(by_type['3D']['topics'])
     assert by_type['RawMessages']['topicPath'] == '/robot_status.data'
     assert by_type['Teleop']['topic'] == '/robot0/cmd_vel'
     assert [series['value'] for series in by_type['Plot']['paths']] == [
