@@ -14,6 +14,7 @@ format is mcap's; the message definitions come from rosbags' Jazzy type store, o
 installed .msg files for the types it lacks. No ROS client here: messages arrive serialised.
 """
 
+from functools import lru_cache
 from importlib.metadata import PackageNotFoundError, version
 import json
 import os
@@ -41,11 +42,30 @@ RUN_METADATA = 'simple_robot_control.run'
 CHUNK_SIZE = 256 << 10
 # Bytes reach the disk at least this often (wall seconds), so a killed recording keeps them.
 FLUSH_PERIOD = 0.5
+# Finishing a bag, measured here: about 60 us a topic (its channel, statistics and metadata
+# entries) and tens of us a chunk (its index); the bound given is five times that, plus 0.1 s,
+# for a loaded machine.
+FINISH_PER_TOPIC = 60e-6
+FINISH_PER_CHUNK = 30e-6
+FINISH_MARGIN = 5.0
 # rmw's infinite duration, as rosbag2 writes it for a policy a publisher leaves unset.
 INFINITE = {'sec': 9223372036, 'nsec': 854775807}
+# The list of topics in rosbag2's metadata.
+TOPICS_KEY = 'topics_with_message_count'
 QOS_KEYS = ('history', 'depth', 'reliability', 'durability', 'deadline', 'lifespan',
             'liveliness', 'liveliness_lease_duration', 'avoid_ros_namespace_conventions')
 _TYPESTORE = get_typestore(Stores.ROS2_JAZZY)
+
+
+class _YamlDumper(getattr(yaml, 'CSafeDumper', yaml.SafeDumper)):
+    """
+    YAML as rosbag2 (yaml-cpp) writes it: no anchors or aliases, a value shared is written out.
+
+    libyaml's emitter where PyYAML has it: the same text as PyYAML's own, sooner.
+    """
+
+    def ignore_aliases(self, data):
+        return True
 
 
 class BagError(ValueError):
@@ -90,6 +110,7 @@ def _missing_type(error, type_name):
     return type_name
 
 
+@lru_cache(maxsize=None)
 def type_hash(type_name: str) -> str:
     """Return the RIHS01 hash of type_name from its installed type description, or ''."""
     path = _installed(type_name, '.json')
@@ -104,8 +125,16 @@ def type_hash(type_name: str) -> str:
 
 def qos_yaml(profiles: list[dict]) -> str:
     """Write offered QoS profiles as rosbag2 (bag version 9) stores them in a channel."""
-    return yaml.safe_dump([{key: profile[key] for key in QOS_KEYS} for profile in profiles],
-                          sort_keys=False, default_flow_style=False).strip() if profiles else ''
+    return _qos_yaml(json.dumps(profiles))
+
+
+@lru_cache(maxsize=256)
+def _qos_yaml(profiles_json):
+    """qos_yaml of profiles given as JSON: a swarm's thousands of topics offer a few kinds."""
+    profiles = json.loads(profiles_json)
+    return yaml.dump([{key: profile[key] for key in QOS_KEYS} for profile in profiles],
+                     Dumper=_YamlDumper, sort_keys=False,
+                     default_flow_style=False).strip() if profiles else ''
 
 
 class BagWriter:
@@ -126,8 +155,8 @@ class BagWriter:
         self._writer = Writer(self._stream, chunk_size=CHUNK_SIZE,
                               compression=CompressionType.NONE)
         self._schemas, self._channels = {}, {}
-        # Per channel: (topic, type, offered profiles) and how many messages it holds.
-        self._topics, self._counts = {}, {}
+        # Per channel: its entry of rosbag2's metadata, as YAML, and how many messages it holds.
+        self._topic_yaml, self._counts = {}, {}
         self._first_ns = self._last_ns = None
         self._flushed_at = time.monotonic()
         self.message_count = 0
@@ -169,7 +198,7 @@ class BagWriter:
             topic=topic, message_encoding='cdr', schema_id=self._schemas[type_name],
             metadata={'offered_qos_profiles': qos_yaml(offered_qos),
                       'topic_type_hash': type_hash(type_name)}))
-        self._topics[channel] = (topic, type_name, offered_qos)
+        self._topic_yaml[channel] = topic_yaml(topic_entry(topic, type_name, offered_qos))
         self._counts[channel] = 0
         return channel
 
@@ -189,6 +218,14 @@ class BagWriter:
             self._guarded(self._stream.flush)
             self._flushed_at = time.monotonic()
 
+    def finish_seconds(self) -> float:
+        """Return a generous bound on how long close() would take now (see FINISH_MARGIN)."""
+        if self.failure is not None or self._stream.closed:
+            return 0.0
+        chunks = self._stream.tell() // CHUNK_SIZE + 1
+        return FINISH_MARGIN * (0.1 + FINISH_PER_TOPIC * len(self._counts)
+                                + FINISH_PER_CHUNK * chunks)
+
     def close(self) -> None:
         """Finish the bag (the last chunk, the summary, the statistics), unless it has failed."""
         if self.failure is None and not self._stream.closed:
@@ -201,41 +238,59 @@ class BagWriter:
         Write rosbag2's metadata record, as its MCAP storage does at a bag's start and end.
 
         Jazzy's holds the serialised metadata alone; Humble's held ROS_DISTRO beside it, and
-        Jazzy's reader still takes that key, so both are written.
+        Jazzy's reader still takes that key, so both are written. Each topic's part was written
+        as YAML when the topic came; only the counts are added here, so that finishing a bag of
+        8,000 topics takes no seconds of YAML.
         """
-        metadata = rosbag2_metadata(self.path.name, self._first_ns, self._last_ns, [
-            (*self._topics[channel], count) for channel, count in self._counts.items()])
+        metadata = rosbag2_metadata(self.path.name, self._first_ns, self._last_ns,
+                                    self.message_count)
         self.add_metadata(ROSBAG2_METADATA, {
-            'serialized_metadata': yaml.safe_dump(metadata, sort_keys=False),
+            'serialized_metadata': metadata_yaml(metadata, [
+                self._topic_yaml[channel] + f'  message_count: {count}\n'
+                for channel, count in self._counts.items()]),
             'ROS_DISTRO': metadata['ros_distro']})
 
 
-def rosbag2_metadata(file_name: str, first_ns: int | None, last_ns: int | None,
-                     topics: list[tuple[str, str, list[dict], int]]) -> dict:
-    """
-    Return a bag's metadata as rosbag2 serialises it (BagMetadata, version 9).
+def topic_entry(topic: str, type_name: str, profiles: list[dict]) -> dict:
+    """Return a topic's entry of rosbag2's metadata (BagMetadata, version 9), count aside."""
+    return {'topic_metadata': {
+        'name': topic, 'type': type_name, 'serialization_format': 'cdr',
+        'offered_qos_profiles': [{key: profile[key] for key in QOS_KEYS} for profile in profiles],
+        'type_description_hash': type_hash(type_name)}}
 
-    topics holds (topic, type, offered QoS profiles, message count) each; first_ns and last_ns
-    are the first and last log times, None before any message (rosbag2 then writes the
-    largest time as the start, and no duration).
+
+def topic_yaml(entry: dict) -> str:
+    """Return a topic's entry as an item of the metadata's topic list, its count to follow."""
+    return yaml.dump([entry], Dumper=_YamlDumper, sort_keys=False)
+
+
+def metadata_yaml(metadata: dict, topic_items: list[str]) -> str:
+    """Return the metadata as YAML, with the topic items (topic_yaml, then a count) in its list."""
+    text = yaml.dump(metadata, Dumper=_YamlDumper, sort_keys=False)
+    if not topic_items:
+        return text
+    return text.replace(f'{TOPICS_KEY}: []\n', f'{TOPICS_KEY}:\n' + ''.join(topic_items), 1)
+
+
+def rosbag2_metadata(file_name: str, first_ns: int | None, last_ns: int | None,
+                     message_count: int) -> dict:
+    """
+    Return a bag's metadata as rosbag2 serialises it (BagMetadata, version 9), topics aside.
+
+    Its topic list is left empty, for metadata_yaml to fill; first_ns and last_ns are the first
+    and last log times, None before any message (rosbag2 then writes the largest time as the
+    start, and no duration).
     """
     start = (2 ** 63 - 1) if first_ns is None else first_ns
     duration = 0 if first_ns is None else last_ns - first_ns
-    count = sum(topic[3] for topic in topics)
     return {
         'version': ROSBAG2_METADATA_VERSION, 'storage_identifier': 'mcap',
         'duration': {'nanoseconds': duration}, 'starting_time': {'nanoseconds_since_epoch': start},
-        'message_count': count,
-        'topics_with_message_count': [{'topic_metadata': {
-            'name': topic, 'type': type_name, 'serialization_format': 'cdr',
-            'offered_qos_profiles': [{key: profile[key] for key in QOS_KEYS}
-                                     for profile in profiles],
-            'type_description_hash': type_hash(type_name)}, 'message_count': messages}
-            for topic, type_name, profiles, messages in topics],
+        'message_count': message_count, TOPICS_KEY: [],
         'compression_format': '', 'compression_mode': '',
         'relative_file_paths': [file_name],
         'files': [{'path': file_name, 'starting_time': {'nanoseconds_since_epoch': start},
-                   'duration': {'nanoseconds': duration}, 'message_count': count}],
+                   'duration': {'nanoseconds': duration}, 'message_count': message_count}],
         'custom_data': {'writer': _writer_name()},
         'ros_distro': os.environ.get('ROS_DISTRO') or ROS_DISTRO,
     }

@@ -16,6 +16,7 @@ from collections import Counter
 from fnmatch import fnmatchcase
 import importlib
 import inspect
+import time
 
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -25,6 +26,11 @@ from simple_robot_control.node_runtime import ConfigError
 
 GRAPH_PERIOD = 0.5
 DEPTH = 1000
+# One look at the graph subscribes to new topics for at most this long (s), then lets the
+# executor run (a Ctrl-C's ending among them) and goes on CATCH_UP_PERIOD later: a swarm's
+# thousands of topics once held the node's start for seconds, and a Ctrl-C then left no bag.
+GRAPH_WORK = 0.05
+CATCH_UP_PERIOD = 0.005
 
 
 def offered(profile):
@@ -94,9 +100,10 @@ class BagRecording:
         self._reported = False
         self._send_times = send_times
         self._late = {}
-        node.create_timer(GRAPH_PERIOD, self._follow_graph,
-                          clock=Clock(clock_type=ClockType.STEADY_TIME))
-        self._follow_graph()
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        node.create_timer(GRAPH_PERIOD, self._follow_graph, clock=steady)
+        # The first look too is the executor's: the node is made at once.
+        self._catch_up = node.create_timer(CATCH_UP_PERIOD, self._follow_graph, clock=steady)
 
     @property
     def topics(self):
@@ -105,10 +112,17 @@ class BagRecording:
 
     def _follow_graph(self):
         node = self._node
+        self._catch_up.cancel()
+        if self._closed:
+            return
+        deadline = time.monotonic() + GRAPH_WORK
         for topic, types in node.get_topic_names_and_types():
             if topic in self._recorded or topic in self._skipped or not any(
                     fnmatchcase(topic, pattern) for pattern in self._patterns):
                 continue
+            if time.monotonic() > deadline:
+                self._catch_up.reset()
+                return
             publishers = node.get_publishers_info_by_topic(topic)
             if publishers:
                 self._record(topic, types, publishers)
@@ -212,6 +226,10 @@ class BagRecording:
             self._node.get_logger().error(
                 f'{error}; recording stopped after {self.bag.message_count} messages (the bag '
                 'keeps what reached the disk, up to its last complete chunk)')
+
+    def finish_seconds(self) -> float:
+        """Return how long finishing the bag may take now (for a Ctrl-C's ending)."""
+        return 0.0 if self._closed else self.bag.finish_seconds()
 
     def close(self):
         """Finish the bag, so that an interrupted recording is complete and indexed."""

@@ -59,6 +59,10 @@ class FoxgloveLive(GuardedNode):
         if warning:
             self.get_logger().warn(warning)
 
+    def ending_allowance(self):
+        """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
+        return 0.0 if self.recording is None else self.recording.finish_seconds()
+
     def shut_down(self):
         """Disconnect the clients; finish the bag, if any."""
         self.live.close()

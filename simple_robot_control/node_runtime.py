@@ -3,6 +3,7 @@
 import argparse
 import os
 import re
+import select
 import signal
 import sys
 import threading
@@ -24,10 +25,15 @@ SIGNAL_CHECK_PERIOD = 0.1
 # teardown grows with the square of the count: 807 endpoints took 0.37 s here, over 1 s on a
 # loaded machine; 400 take about 0.1 s.
 ORDERLY_TEARDOWN_LIMIT = 400
-# After Ctrl-C or SIGTERM a program has this long to say its last words; then it ends anyway.
-# Ending the process may take 0.2 s more on a loaded machine (1.12 s measured with 0.9 here,
-# two busy loops beside the tests): the promise is an end within 1 s.
+# After Ctrl-C or SIGTERM a program has this long to say its last words, plus what its node
+# asks for to finish what it writes (a bag: see ending_allowance); then it ends anyway. Ending
+# the process may take 0.2 s more on a loaded machine (1.12 s measured with 0.9 here, two busy
+# loops beside the tests): the promise is an end within 1 s, or that allowance more.
 LAST_WORDS = 0.6
+# A second Ctrl-C or SIGTERM ends the process at once with this code (128 + SIGINT, as a shell
+# reports a program interrupted): what it was writing is left as it is.
+EXIT_INTERRUPTED_TWICE = 130
+ENDING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 # rcl reports where in its C sources it found a problem: of no use to the user.
 _SOURCE_LOCATION = re.compile(r'(?:, at [^,]*\.c:\d+)+')
 
@@ -58,7 +64,9 @@ def run(prog, parser, make_node, argv=None):
     The node must have a `finished` future (its result is the exit code, or a ConfigError for
     input found bad while running) and a `shut_down()` method that runs before the node is
     destroyed, while it can still publish. Ctrl-C and SIGTERM end the run with exit code 0
-    after shut_down(), however busy the node is.
+    after shut_down(), however busy the node is: within LAST_WORDS, plus the seconds its
+    `ending_allowance()` returns if it has one (a recorder finishing its bag). A second signal
+    ends it at once.
     """
     argv = list(sys.argv if argv is None else argv)
     try:
@@ -73,9 +81,9 @@ def run(prog, parser, make_node, argv=None):
         # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with
         # SIGINT then SIGTERM, so the handlers are ours whatever the parent set up. A signal
         # from here on abandons the start (_Interrupted), even while the watch is being set up.
-        for signal_number in (signal.SIGINT, signal.SIGTERM):
+        for signal_number in ENDING_SIGNALS:
             signal.signal(signal_number, ending.on_signal)
-        _watch_for_signals()
+        watch = _watch_for_signals()
         try:
             rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
         except rclpy_implementation.RCLError as error:
@@ -85,6 +93,7 @@ def run(prog, parser, make_node, argv=None):
         except NameValidationException as error:
             raise ConfigError(f'{error} (check the --ros-args remappings)') from None
         node.finished.add_done_callback(lambda _: ending.complete())
+        watch.allowance = getattr(node, 'ending_allowance', None)
         executor = EventsExecutor()
         executor.add_node(node)
         ending.node_runs = True
@@ -125,24 +134,51 @@ def rcl_problem(error) -> str:
 
 def _watch_for_signals():
     """
-    End the process LAST_WORDS after Ctrl-C or SIGTERM, whatever its main thread is doing.
+    End the process in time after Ctrl-C or SIGTERM, whatever its main thread is doing.
 
     Python runs a signal handler only between bytecodes of the main thread, so a long call
     into compiled code would hold it back. The signal's arrival is also written to a pipe, at
     once, by the interpreter's own low-level handler; a thread waiting on the pipe ends the
-    process if the orderly ending has not done so in time.
+    process if the orderly ending has not done so in time: LAST_WORDS, plus what the node's
+    allowance (set on the returned watch once the node exists) asks for at that moment. A
+    second signal ends it at once.
     """
     read_end, write_end = os.pipe()
     os.set_blocking(write_end, False)
     signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
+    watch = _SignalWatch()
 
-    def watch():
-        os.read(read_end, 1)
-        time.sleep(LAST_WORDS)
+    def ending_signal(timeout=None):
+        """Wait for SIGINT or SIGTERM (the pipe holds each signal's number); say if it came."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while deadline is None or (left := deadline - time.monotonic()) > 0:
+            if deadline is None or select.select([read_end], [], [], left)[0]:
+                if os.read(read_end, 1)[0] in ENDING_SIGNALS:
+                    return True
+        return False
+
+    def wait():
+        ending_signal()
+        code = EXIT_INTERRUPTED_TWICE if ending_signal(
+            LAST_WORDS + watch.seconds_asked()) else EXIT_OK
         sys.stdout.flush()
         sys.stderr.flush()
-        os._exit(EXIT_OK)
-    threading.Thread(target=watch, name='signal watch', daemon=True).start()
+        os._exit(code)
+    threading.Thread(target=wait, name='signal watch', daemon=True).start()
+    return watch
+
+
+class _SignalWatch:
+    """What the signal watch asks of the node: allowance() gives seconds more to end in."""
+
+    def __init__(self):
+        self.allowance = None
+
+    def seconds_asked(self):
+        try:
+            return max(0.0, float(self.allowance())) if self.allowance is not None else 0.0
+        except Exception:  # noqa: B902  whatever the node's estimate raises, the end comes
+            return 0.0
 
 
 def _endpoint_count(node):

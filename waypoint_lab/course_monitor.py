@@ -143,6 +143,10 @@ class CourseMonitor(GuardedNode):
             self._write('\r\x1b[K')
             self._progress_shown = False
 
+    def ending_allowance(self):
+        """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
+        return 0.0 if self.recording is None else self.recording.finish_seconds()
+
     def shut_down(self):
         """Finish the bag, so that even an interrupted run leaves a complete one."""
         self._clear_progress()

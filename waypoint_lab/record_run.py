@@ -43,6 +43,10 @@ class RunRecorder(GuardedNode):
         self.recording = BagRecording(self, bag or params['bag'], topics or params['topics'],
                                       send_times=True)
 
+    def ending_allowance(self):
+        """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
+        return self.recording.finish_seconds()
+
     def shut_down(self):
         """Finish the bag, so that an interrupted recording is complete and indexed."""
         self.recording.close()

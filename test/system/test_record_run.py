@@ -3,6 +3,7 @@
 import os
 import signal
 
+from bench.realtime import write_robot_grid
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap.records import Channel, Message
@@ -14,23 +15,30 @@ import yaml
 
 
 @pytest.fixture
-def recording(tmp_path):
-    """Run stdr_lite and record_run; give (recorder, bag) once the first chunk is written."""
-    simulator = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=5.0',
+def recording(tmp_path, request):
+    """
+    Run stdr_lite and record_run; give (recorder, bag) once the first chunk is written.
+
+    The simulator runs the lab's robot, or (parametrized indirectly) that many lab robots.
+    """
+    robots = getattr(request, 'param', None)
+    world = ['-p', f'robots_file:={write_robot_grid(tmp_path, robots)}'] if robots else []
+    simulator = start_logged('stdr_lite', '--ros-args', '-p', 'real_time_factor:=5.0', *world,
                              log=tmp_path / 'stdr_lite.log')
     try:
         wait_for_text(tmp_path / 'stdr_lite.log', 'real_time_factor', simulator)
         bag = tmp_path / 'run.mcap'
         recorder = start('record_run', '--ros-args', '-p', f'bag:={bag}', '--log-level', 'info')
-        # A first chunk written out: a few seconds of the run.
-        wait_until(lambda: bag.exists() and bag.stat().st_size > 100_000, 'a chunk written',
-                   recorder, timeout=30.0)
+        # A few seconds of the run written out: every robot's topics recorded by then.
+        wait_until(lambda: bag.exists() and bag.stat().st_size > 100_000 * (robots or 1),
+                   'chunks written', recorder, timeout=60.0)
         yield recorder, bag
     finally:
         assert stop(simulator, signal.SIGINT)[0] == 0
 
 
-def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording):
+@pytest.mark.parametrize('recording', [None, 50], indirect=True, ids=['one robot', '50 robots'])
+def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording, request):
     recorder, bag = recording
     recorder.send_signal(signal.SIGINT)
     _, stderr = recorder.communicate(timeout=15)
@@ -44,6 +52,9 @@ def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording):
         delays = [message.log_time - message.publish_time
                   for _, _, message in reader.iter_messages()]
     assert summary.statistics.message_count > 100
+    odometry = [channel for channel in summary.channels.values()
+                if channel.topic.endswith('/odom')]
+    assert len(odometry) == (request.node.callspec.params['recording'] or 1)
     with AnyReader([bag]) as reader:
         topics = {connection.topic for connection in reader.connections}
         count = sum(1 for _ in reader.messages())
@@ -57,8 +68,8 @@ def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording):
     assert metadata['message_count'] == count
     assert {topic['topic_metadata']['name']: topic['message_count']
             for topic in metadata['topics_with_message_count']} == {
-        summary.channels[channel].topic: messages
-        for channel, messages in summary.statistics.channel_message_counts.items()}
+        channel.topic: summary.statistics.channel_message_counts.get(channel_id, 0)
+        for channel_id, channel in summary.channels.items()}
     # Each message's publish time is when it was sent, before it was received (both wall time).
     assert all(0 < delay < 5 * 10 ** 9 for delay in delays)
 
@@ -67,6 +78,21 @@ def test_a_killed_recording_keeps_its_chunks(recording):
     recorder, bag = recording
     recorder.kill()
     recorder.communicate(timeout=15)
+    assert odometry_messages(bag) > 10
+
+
+def test_a_second_signal_ends_at_once_keeping_the_chunks(recording):
+    recorder, bag = recording
+    # Two signals of one kind sent at once may reach a process as one: a Ctrl-C, then SIGTERM.
+    recorder.send_signal(signal.SIGINT)
+    recorder.send_signal(signal.SIGTERM)
+    recorder.communicate(timeout=15)
+    assert recorder.returncode == 130
+    assert odometry_messages(bag) > 10
+
+
+def odometry_messages(bag):
+    """Count robot0's odometry in a bag, as far as it can be read."""
     channels, messages = {}, 0
     with open(bag, 'rb') as stream:
         try:
@@ -77,4 +103,4 @@ def test_a_killed_recording_keeps_its_chunks(recording):
                     '/robot0/odom')
         except McapError:
             pass  # the record the kill went through
-    assert messages > 10
+    return messages

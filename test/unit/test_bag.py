@@ -1,5 +1,8 @@
 """Bags in MCAP as Jazzy's rosbag2 writes them, read back by independent readers."""
 
+import json
+import time
+
 from full_disk import fill_up_after
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
@@ -8,7 +11,9 @@ from mcap.stream_reader import StreamReader
 import pytest
 from rosbags.highlevel import AnyReader
 from simple_robot_control.bag import (BagError, BagWriter, CHUNK_SIZE, INFINITE,
-                                      message_definition, qos_yaml, ROSBAG2_METADATA, type_hash)
+                                      message_definition, metadata_yaml, qos_yaml,
+                                      ROSBAG2_METADATA, rosbag2_metadata, topic_entry,
+                                      topic_yaml, type_hash)
 from simple_robot_control.bag_reading import BagMessages
 import yaml
 
@@ -55,7 +60,7 @@ def test_the_channel_holds_what_rosbag2s_mcap_storage_reads(tmp_path):
 def rosbag2_records(path):
     """Return the bag's rosbag2 metadata records, each parsed as rosbag2's YAML, in file order."""
     with open(path, 'rb') as stream:
-        return [yaml.safe_load(record.metadata['serialized_metadata'])
+        return [yaml.load(record.metadata['serialized_metadata'], Loader=yaml.CSafeLoader)
                 for record in make_reader(stream).iter_metadata()
                 if record.name == ROSBAG2_METADATA]
 
@@ -81,6 +86,35 @@ def test_rosbag2s_metadata_record_is_written_at_the_start_and_the_end(tmp_path, 
         'offered_qos_profiles': [LATCHED],
         'type_description_hash': type_hash('std_msgs/msg/String')}}
     assert closing['custom_data']['writer'].startswith('simple_robot_control ')
+
+
+def test_the_metadata_put_together_topic_by_topic_is_the_yaml_of_the_whole():
+    topics = [('/robot_status', 'std_msgs/msg/String', [LATCHED], 3),
+              ('/robot0/odom', 'nav_msgs/msg/Odometry', [LATCHED, LATCHED], 0),
+              ("/a: '-' #b", 'std_msgs/msg/String', [], 12)]
+    metadata = rosbag2_metadata('run.mcap', 5, 9, 15)
+    # Written out (LATCHED shares INFINITE), as rosbag2 writes it: no anchors.
+    whole = json.loads(json.dumps(dict(metadata, topics_with_message_count=[
+        dict(topic_entry(topic, kind, profiles), message_count=count)
+        for topic, kind, profiles, count in topics])))
+    pieces = [topic_yaml(topic_entry(topic, kind, profiles)) + f'  message_count: {count}\n'
+              for topic, kind, profiles, count in topics]
+    assert metadata_yaml(metadata, pieces) == yaml.safe_dump(whole, sort_keys=False)
+    assert metadata_yaml(metadata, []) == yaml.safe_dump(metadata, sort_keys=False)
+
+
+def test_a_bag_of_thousands_of_topics_finishes_within_a_second(tmp_path):
+    # Its whole metadata as YAML at the end took 5.1 s of CPU at 2,424 topics (0.13 s now).
+    bag = BagWriter(tmp_path / 'swarm.mcap')
+    channels = [bag.add_topic(f'/robot{index}/odom', 'nav_msgs/msg/Odometry', [LATCHED])
+                for index in range(2000)]
+    for channel in channels:
+        bag.write(channel, 1_000_000_000, STATUS)
+    started = time.process_time()
+    bag.close()
+    assert time.process_time() - started < 1.0
+    (_, closing) = rosbag2_records(tmp_path / 'swarm.mcap')
+    assert len(closing['topics_with_message_count']) == 2000
 
 
 def test_the_ros_distro_is_the_environments_where_set(tmp_path, monkeypatch):
