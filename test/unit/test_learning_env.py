@@ -103,6 +103,25 @@ def test_the_vector_equals_single_environments_stepped_alike():
     assert restarts == 3, 'every episode was cut at 30 steps and started again'
 
 
+def test_with_noise_the_vector_differs_from_single_environments_in_the_laser_noise_alone():
+    vector = WaypointsVectorEnv(num_envs=3, max_episode_steps=30)
+    singles = [gym.make('waypoint_lab/Waypoints-v0', max_episode_steps=30) for _ in range(3)]
+    observations, _ = vector.reset(seed=11)
+    firsts = [env.reset(seed=11 + index)[0] for index, env in enumerate(singles)]
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        actions = rng.uniform([-0.5, -1.0], [0.5, 1.0], (3, 2)).astype(np.float32)
+        observations, rewards, terminated, truncated, infos = vector.step(actions)
+        for index, env in enumerate(singles):
+            single, reward, done, cut, info = env.step(actions[index])
+            assert np.array_equal(info['pose'], infos['pose'][index])
+            assert np.array_equal(single[-5:], observations[index][-5:])
+            assert (reward, done, cut) == (rewards[index], terminated[index], truncated[index])
+            # The world's noise is one stream for every robot, a single env's its robot's alone.
+            assert np.abs(single[:-5] - observations[index][:-5]).max() < 0.05
+    assert not np.array_equal(firsts[1], observations[1])
+
+
 def test_pictures_are_the_viewers_scene(monkeypatch):
     monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
     window = gym.make('waypoint_lab/Waypoints-v0', render_mode='human')

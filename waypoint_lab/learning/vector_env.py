@@ -19,10 +19,9 @@ from gymnasium.vector.utils import batch_space
 import numpy as np
 from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
                                  MAX_LINEAR_SPEED)
-from waypoint_lab.learning import MAX_EPISODE_STEPS
+from waypoint_lab.learning import checks, MAX_EPISODE_STEPS
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
-from waypoint_lab.learning.task import TaskSettings
 from waypoint_lab.learning.waypoints_env import spaces_of
 
 
@@ -43,10 +42,9 @@ class WaypointsVectorEnv(VectorEnv):
                  rate_hz=10.0, random_start=True, sensor_noise=True,
                  max_episode_steps=MAX_EPISODE_STEPS, render_mode=None,
                  autoreset_mode=AutoresetMode.NEXT_STEP):
-        self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
-                                 laser_rays, max_linear_speed, max_angular_speed,
-                                 random_start=random_start)
-        self.num_envs = num_envs
+        self.task = checks.task(waypoints, distance_tolerance, angle_tolerance, laser_rays,
+                                max_linear_speed, max_angular_speed, random_start)
+        self.num_envs = num_envs = checks.count('num_envs', num_envs)
         self.arena = Arena(num_envs, self.task, map_name, robot, rate_hz, sensor_noise,
                            bodies_meet=False)
         self.single_observation_space, self.single_action_space = spaces_of(self.task)
@@ -58,13 +56,14 @@ class WaypointsVectorEnv(VectorEnv):
             raise ValueError(f'autoreset_mode must be NEXT_STEP or SAME_STEP, got '
                              f'{self.autoreset_mode}')
         self.metadata = {**self.metadata, 'autoreset_mode': self.autoreset_mode}
-        self.max_episode_steps = max_episode_steps
+        self.max_episode_steps = checks.count('max_episode_steps', max_episode_steps)
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._ended = np.zeros(num_envs, dtype=bool)
         self._generators = [np.random.default_rng() for _ in range(num_envs)]
         self._picture = None
 
     def reset(self, *, seed=None, options=None):
+        options = checks.options(options)
         if seed is not None:
             seeds = (seed if isinstance(seed, (list, tuple))
                      else [seed + index for index in range(self.num_envs)])
@@ -81,7 +80,7 @@ class WaypointsVectorEnv(VectorEnv):
         return self.arena.observations(), self._infos()
 
     def step(self, actions):
-        actions = np.array(actions, dtype=float).reshape(self.num_envs, 2)
+        actions = checks.actions('actions', actions, (self.num_envs, 2))
         restarting = self._ended.copy()
         actions[restarting] = 0.0
         self.arena.act(actions)

@@ -16,6 +16,7 @@ from gymnasium import spaces
 import numpy as np
 from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
                                  MAX_LINEAR_SPEED)
+from waypoint_lab.learning import checks
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
 from waypoint_lab.learning.task import FAR, GOAL_FEATURES, TaskSettings
@@ -40,8 +41,8 @@ class WaypointsEnv(gym.Env):
     map's name), robot (a robot file or a bundled robot's name), rate_hz (one step is 1/rate_hz
     simulated seconds), random_start, sensor_noise. reset(options={'start': (x, y, theta),
     'waypoints': [(x, y, theta), ...]}) sets the start or the course instead of drawing them
-    (theta in radians). info holds 'pose', 'waypoint' (the one to reach next, from 0) and
-    'reached' (a goal set entered this step).
+    (theta in radians; checks.py says what is refused). info holds 'pose', 'waypoint' (the one
+    to reach next, from 0) and 'reached' (a goal set entered this step).
     """
 
     metadata = {'render_modes': ['rgb_array', 'human'], 'render_fps': 10}
@@ -51,9 +52,8 @@ class WaypointsEnv(gym.Env):
                  max_linear_speed=MAX_LINEAR_SPEED,
                  max_angular_speed=MAX_ANGULAR_SPEED, map_name='', robot='', rate_hz=10.0,
                  random_start=True, sensor_noise=True, render_mode=None):
-        self.task = TaskSettings(waypoints, distance_tolerance, math.radians(angle_tolerance),
-                                 laser_rays, max_linear_speed, max_angular_speed,
-                                 random_start=random_start)
+        self.task = checks.task(waypoints, distance_tolerance, angle_tolerance, laser_rays,
+                                max_linear_speed, max_angular_speed, random_start)
         self.arena = Arena(1, self.task, map_name, robot, rate_hz, sensor_noise)
         self.observation_space, self.action_space = spaces_of(self.task)
         if render_mode is not None and render_mode not in self.metadata['render_modes']:
@@ -64,6 +64,7 @@ class WaypointsEnv(gym.Env):
         self._status = ''
 
     def reset(self, *, seed=None, options=None):
+        options = checks.options(options)
         super().reset(seed=seed)
         self.arena.simulation.reset(seed=int(self.np_random.integers(2 ** 31)))
         self.arena.restart(0, self.np_random, options)
@@ -72,7 +73,7 @@ class WaypointsEnv(gym.Env):
         return self.arena.observations()[0], self._info(False)
 
     def step(self, action):
-        self.arena.act(np.asarray(action, dtype=float)[None, :])
+        self.arena.act(checks.actions('action', action, (2,))[None, :])
         reward, reached, finished = self.arena.step()
         if reached[0]:
             number = int(self.arena.courses.next[0])
