@@ -22,8 +22,9 @@ class OdometryListener(HelperNode):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog='odometry_listener',
-                                     description='listen to every robot odometry')
+    parser = argparse.ArgumentParser(
+        prog='odometry_listener', description='listen to every robot odometry: a helper process '
+        'that bench.realtime starts, not a benchmark (run python -m bench.realtime [--smoke])')
     parser.add_argument('robot_count', type=int)
     return serve(parser, lambda options: OdometryListener(options.robot_count), argv)
 

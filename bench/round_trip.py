@@ -134,7 +134,9 @@ def serve(parser, make_node, argv=None):
 
 def main(argv=None):
     """Run an echo until interrupted."""
-    parser = argparse.ArgumentParser(prog='round_trip', description='the echo of the ceiling')
+    parser = argparse.ArgumentParser(
+        prog='round_trip', description='the echo of the ceiling: a helper process that '
+        'bench.realtime starts, not a benchmark (run python -m bench.realtime [--smoke])')
     return serve(parser, lambda _: Echo(), argv)
 
 

@@ -60,7 +60,7 @@ MATCH_SETTLE = 1.0
 AFTER_FINISHED = 2.0
 AFTER_EXIT = 1.0
 # At the end, the recorder has this long to catch up with the simulator; it has when no truth
-# came for QUIET seconds.
+# came for QUIET seconds, and no status either (a flood still queued is counted).
 CATCH_UP = 60.0
 QUIET = 0.5
 SPIN_PERIOD = 0.05
@@ -208,14 +208,20 @@ class _Run:
                                self.simulator.pid, self.submission_pids, psutil.pids())
         self.fouls += [line for line in found.fouls if line not in self.fouls]
         self.strangers += [line for line in found.strangers if line not in self.strangers]
-        if recorder.flooded:
-            self.fouls.append(f'sent {recorder.sent_statuses} messages on robot_status, more '
-                              f'than {recorder.status_limit} (an honest run sends '
-                              f'{len(self.course.waypoints) + 2}): the run was ended there')
+        self._check_flood()
         if self.fouls:
             raise Foul(self.fouls[0])
         if self.strangers:
             raise GradingError(f"{self.strangers[0]}: not the submission's doing; grade again")
+
+    def _check_flood(self):
+        """Raise Foul once the submission has sent more statuses than any honest run."""
+        recorder = self.recorder
+        if recorder.flooded:
+            self.fouls.append(f'sent {recorder.sent_statuses} messages on robot_status, more '
+                              f'than {recorder.status_limit} (an honest run sends '
+                              f'{len(self.course.waypoints) + 2}): the run was ended there')
+            raise Foul(self.fouls[0])
 
     def _take_empty_domain(self):
         """Claim a domain, and keep it only if nobody is in it; GradingError if none is empty."""
@@ -278,6 +284,7 @@ class _Run:
                 raise GradingError('the simulator did not start playing')
             timed_out = self._until_over()
             self._catch_up()
+            self._check_flood()
         except Foul as foul:
             if str(foul) not in self.fouls:
                 self.fouls.append(str(foul))
@@ -326,9 +333,10 @@ class _Run:
         recorder = self.recorder
 
         def caught_up():
+            now = time.monotonic()
             return (self.link.last_sent >= over or self._quiet(self.link.last_sent)) and (
-                recorder.truth_sent >= over
-                or time.monotonic() - recorder.truth_heard_at > QUIET)
+                recorder.truth_sent >= over or now - recorder.truth_heard_at > QUIET) and (
+                now - recorder.status_heard_at > QUIET)
         if not self.spin(caught_up, CATCH_UP) and not self.stopping.is_set():
             raise GradingError(f'the recorder was still {CATCH_UP:g} s behind the simulator at '
                                'the end (the machine is too busy): grade with fewer --jobs or '

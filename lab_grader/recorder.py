@@ -53,6 +53,7 @@ class GradingRecorder(GuardedNode):
             self.recording.record_now(topic, type_name, JUDGED_QOS,
                                       self._on_truth if 'ground_truth' in topic else None)
         self.ended_at = None
+        self.status_heard_at = 0.0
         self.statuses = []
         self.status_limit = status_limit(course)
         # A transient-local status publisher (the lab's controller's) replays to the second
@@ -84,6 +85,7 @@ class GradingRecorder(GuardedNode):
         self.truth_sent, self.truth_heard_at = sent or 0, time.monotonic()
 
     def _on_status(self, data, sent):
+        self.status_heard_at = time.monotonic()
         if self.flooded:
             return
         text = deserialize_message(data, String).data

@@ -2,12 +2,13 @@
 Topics recorded into a rosbag2 bag in MCAP as they appear in the graph, on behalf of a node.
 
 Topics are matched by pattern against the graph, looked at twice a second, so robots spawned
-later are recorded too; each is subscribed with what its publishers offer (reliable and
-transient local only when all of them are), so a transient-local topic's history is received,
-as ros2 bag does. A message's log time is when it was received (by the node's clock); with
-send_times, its publish time is when it was sent (the middleware's source timestamp, wall
-time), as rosbag2 writes it, whichever executor spins the node (rclpy's EventsExecutor gives it
-only to a callback that asks for it, and differently: see _make_subscription).
+later are recorded too (hidden ones, an action's, left out, as ros2 bag record does); each is
+subscribed with what its publishers offer (reliable and transient local only when all of them
+are), so a transient-local topic's history is received, as ros2 bag does. A message's log time
+is when it was received (by the node's clock); with send_times, its publish time is when it was
+sent (the middleware's source timestamp, wall time), as rosbag2 writes it, whichever executor
+spins the node (rclpy's EventsExecutor gives it only to a callback that asks for it, and
+differently: see _make_subscription).
 record_run is a node of its own around it; course_monitor and grade_lab record runs with it.
 A bag the disk stops taking (full) ends the recording with one line, never the node's run.
 """
@@ -19,7 +20,9 @@ import inspect
 import time
 
 from rclpy.clock import Clock, ClockType
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, BagWriter, RUN_METADATA
 from simple_robot_control.input_files import output_problem
 from simple_robot_control.node_runtime import ConfigError
@@ -99,7 +102,8 @@ class BagRecording:
         self._closed = False
         self._reported = False
         self._send_times = send_times
-        self._late = {}
+        # Per topic recorded with history: its second subscription, None until it is made.
+        self._late, self._history = {}, {}
         steady = Clock(clock_type=ClockType.STEADY_TIME)
         node.create_timer(GRAPH_PERIOD, self._follow_graph, clock=steady)
         # The first look too is the executor's: the node is made at once.
@@ -115,10 +119,13 @@ class BagRecording:
         self._catch_up.cancel()
         if self._closed:
             return
+        self._ask_history()
         deadline = time.monotonic() + GRAPH_WORK
         for topic, types in node.get_topic_names_and_types():
-            if topic in self._recorded or topic in self._skipped or not any(
-                    fnmatchcase(topic, pattern) for pattern in self._patterns):
+            # Hidden topics (an action's feedback and status) are left out, as ros2 bag
+            # record leaves them out unless asked.
+            if topic in self._recorded or topic in self._skipped or topic_or_service_is_hidden(
+                    topic) or not any(fnmatchcase(topic, pattern) for pattern in self._patterns):
                 continue
             if time.monotonic() > deadline:
                 self._catch_up.reset()
@@ -127,7 +134,7 @@ class BagRecording:
             if publishers:
                 self._record(topic, types, publishers)
 
-    def record_now(self, topic, type_name, qos, then=None, history=None):
+    def record_now(self, topic, type_name, qos, then=None, history=None, keep=None):
         """
         Record topic at once, as type_name with qos, before any publisher of it is known.
 
@@ -139,7 +146,7 @@ class BagRecording:
         match, and a message both bring (the same send time and bytes) is recorded once.
         then(data, sent), if given, also gets each serialised message, once it is recorded (or
         the recording has stopped), and the wall time it was sent at (nanoseconds; None without
-        send_times).
+        send_times). keep(data), if given, says which messages the bag keeps (then gets all).
         """
         try:
             channel = self.bag.add_topic(topic, type_name, [offered(qos)])
@@ -147,10 +154,22 @@ class BagRecording:
             self._stop(error)
             return
         seen = set() if history is not None else None
-        self._subscribe(topic, message_class(type_name), channel, qos, then, seen)
+        self._subscribe(topic, message_class(type_name), channel, qos, then, seen, keep)
         if history is not None:
-            self._late[topic] = self._make_subscription(
-                topic, message_class(type_name), channel, history, then, seen)
+            # Made once a transient-local publisher shows (_ask_history): a volatile one, the
+            # usual kind, never matches it, and both sides would warn of it.
+            self._late[topic] = None
+            self._history[topic] = (message_class(type_name), channel, history, then, seen, keep)
+            self._ask_history()
+
+    def _ask_history(self):
+        """Make the history subscriptions whose topic has a transient-local publisher now."""
+        for topic, made in self._late.items():
+            if made is None and any(
+                    info.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                    for info in self._node.get_publishers_info_by_topic(topic)):
+                self._late[topic] = self._make_subscription(topic, *self._history.pop(topic),
+                                                            history_only=True)
 
     def _record(self, topic, types, publishers):
         kind = message_class(types[0]) if len(types) == 1 else None
@@ -172,10 +191,12 @@ class BagRecording:
             return
         self._subscribe(topic, kind, channel, subscription_qos(profiles)[0])
 
-    def _subscribe(self, topic, kind, channel, qos, then=None, seen=None):
-        self._recorded[topic] = self._make_subscription(topic, kind, channel, qos, then, seen)
+    def _subscribe(self, topic, kind, channel, qos, then=None, seen=None, keep=None):
+        self._recorded[topic] = self._make_subscription(topic, kind, channel, qos, then, seen,
+                                                        keep)
 
-    def _make_subscription(self, topic, kind, channel, qos, then, seen):
+    def _make_subscription(self, topic, kind, channel, qos, then, seen, keep=None,
+                           history_only=False):
         clock = self._node.get_clock()
 
         def write(data, info=None):
@@ -189,7 +210,7 @@ class BagRecording:
                 if (sent, data) in seen:
                     return
                 seen.add((sent, data))
-            if not self._closed:
+            if not self._closed and (keep is None or keep(data)):
                 try:
                     self.bag.write(channel, clock.now().nanoseconds, data, sent)
                     self.received[topic] += 1
@@ -206,8 +227,13 @@ class BagRecording:
         # rclpy passes the MessageInfo to a callback whose signature needs two arguments: its
         # Python executors as the second, its EventsExecutor (7.1) with the message in a tuple.
         write_with_send_time.__signature__ = inspect.signature(lambda data, info: None)
+        # A subscription for the history matches transient-local publishers only: rclpy's
+        # warning about every volatile one (the usual status publisher) would say nothing.
+        events = SubscriptionEventCallbacks(incompatible_qos=lambda _: None) if (
+            history_only) else None
         return self._node.create_subscription(
-            kind, topic, write_with_send_time if self._send_times else write, qos, raw=True)
+            kind, topic, write_with_send_time if self._send_times else write, qos, raw=True,
+            event_callbacks=events)
 
     def subscription(self, topic):
         """Return the subscription recording topic, or None while it is not recorded."""

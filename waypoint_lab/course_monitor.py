@@ -76,7 +76,9 @@ class CourseMonitor(GuardedNode):
             # status, which ends the monitor, is in the bag too.
             self.recording.record_now(
                 f'/{STATUS_TOPIC}', 'std_msgs/msg/String', status_qos(self._total),
-                then=lambda data, sent: self._on_status(deserialize_message(data, String)))
+                then=lambda data, sent: self._on_status(deserialize_message(data, String)),
+                keep=lambda data: self._course_status(deserialize_message(data, String).data)
+                is not None)
         else:
             self.create_subscription(String, STATUS_TOPIC, self._on_status,
                                      status_qos(self._total))
@@ -100,10 +102,9 @@ class CourseMonitor(GuardedNode):
         if self.finished.done():
             return
         text = message.data
-        status = parse_status(text)
-        if status is None or (status.number is not None
-                              and not status.number <= self._total):
-            # Some other node spoke on robot_status: say so, and keep it out of the record.
+        status = self._course_status(text)
+        if status is None:
+            # Some other node spoke on robot_status: say so (the record keeps it out).
             self._clear_progress()
             self._write(f'(not a status of this course: {shorten(repr(text), 80)})\n')
             return
@@ -121,6 +122,13 @@ class CourseMonitor(GuardedNode):
             self.finished.set_result(EXIT_OK if kind == FINISHED else EXIT_FAILED)
         else:
             self._show_progress()
+
+    def _course_status(self, text):
+        """Return text as a status of this course, or None (another node's words)."""
+        status = parse_status(text)
+        if status is None or (status.number is not None and not status.number <= self._total):
+            return None
+        return status
 
     def _progress_text(self, sim_time=None):
         sim_time = self.sim_time if sim_time is None else sim_time

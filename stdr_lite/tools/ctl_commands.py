@@ -97,6 +97,14 @@ def timeout(text: str) -> float:
     return value
 
 
+def scope_name(text: str) -> str:
+    """Parse a reset scope (argparse's choices refuse nargs='*' given none, in Python 3.11)."""
+    if text not in SCOPES:
+        raise argparse.ArgumentTypeError(f'invalid choice: {text!r} (choose from '
+                                         f'{", ".join(sorted(SCOPES))})')
+    return text
+
+
 def simulator_name(text: str) -> str:
     """Parse the full name of a simulator node, whose services are <name>/<service>."""
     problem = argparse.ArgumentTypeError(f'not the full name of a node (such as /stdr_lite): '
@@ -192,7 +200,8 @@ COMMANDS = {
                  lambda options: Call(SimulateSteps, 'simulate_steps', {'steps': options.steps},
                                       lambda _: [f'simulated {options.steps}'])),
     'reset': ('reset time, state and spawned entities, or the scopes given',
-              lambda parser: parser.add_argument('scope', nargs='*', choices=sorted(SCOPES)),
+              lambda parser: parser.add_argument('scope', nargs='*', type=scope_name,
+                                                 metavar=f'{{{",".join(sorted(SCOPES))}}}'),
               lambda options: Call(ResetSimulation, 'reset_simulation', {'scope': sum(
                   {SCOPES[name] for name in options.scope}) if options.scope and 'all' not in (
                   options.scope) else SCOPES['all']}, lambda _: ['reset'])),
@@ -269,13 +278,21 @@ COMMANDS = {
 
 
 def build_arguments() -> argparse.ArgumentParser:
+    """Return stdr_ctl's parser: --simulator and --timeout go before or after the command."""
     parser = OneLineParser(prog='stdr_ctl', description=DESCRIPTION)
-    parser.add_argument('--simulator', default='/stdr_lite', type=simulator_name,
-                        help='the simulator node whose services to call (default /stdr_lite)')
-    parser.add_argument('--timeout', type=timeout, default=10.0,
-                        help='seconds to wait for the simulator to answer, in (0, 3600] '
-                        '(default 10)')
+    _add_common(parser, '/stdr_lite', 10.0)
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for name, (summary, add_arguments, _) in COMMANDS.items():
-        add_arguments(commands.add_parser(name, help=summary, description=summary))
+        command = commands.add_parser(name, help=summary, description=summary)
+        # Given after the command, they override those before it; absent, they leave them.
+        _add_common(command, argparse.SUPPRESS, argparse.SUPPRESS)
+        add_arguments(command)
     return parser
+
+
+def _add_common(parser, simulator, seconds):
+    parser.add_argument('--simulator', default=simulator, type=simulator_name,
+                        help='the simulator node whose services to call (default /stdr_lite)')
+    parser.add_argument('--timeout', type=timeout, default=seconds,
+                        help='seconds to wait for the simulator to answer, in (0, 3600] '
+                        '(default 10)')

@@ -24,6 +24,7 @@ import time
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 import rclpy
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from simulation_interfaces.srv import SetEntityState
@@ -190,6 +191,8 @@ def kill_simulator(node):
 def flood(node, goals):
     for _ in range(1000):
         node.report(status_text('WAYPOINT 1', goals[0]))
+    # The last of them delivered before this process ends, however loaded the machine.
+    node.status.wait_for_all_acked(Duration(seconds=30))
     say('sent 1000 statuses')
 
 

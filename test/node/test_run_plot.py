@@ -4,11 +4,13 @@ import json
 import math
 
 from full_disk import fill_up_after
+from mcap.reader import make_reader
 from nav_msgs.msg import Odometry
 import numpy as np
 from PIL import Image
 import pytest
 from rclpy.node import Node
+from rclpy.serialization import deserialize_message
 from ros_helpers import overrides, spin_until, wait_for_subscribers
 from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import BUNDLED_MAP, shared_file
@@ -125,13 +127,13 @@ def test_plot_run_writes_the_png_exactly_where_it_is_told(recorded_run):
     assert not output.with_suffix('.png').exists()
 
 
-def monitor_with_speaker(ros_context, executor, course_text, tmp_path):
+def monitor_with_speaker(ros_context, executor, course_text, tmp_path, **parameters):
     """Give (monitor, its output, status and odometry publishers) on a course of a test's."""
     course = tmp_path / 'course.txt'
     course.write_text(course_text)
     output = []
     monitor = CourseMonitor(str(course), write=output.append, interactive=False,
-                            context=ros_context)
+                            context=ros_context, parameter_overrides=overrides(**parameters))
     speaker = Node('speaker', context=ros_context)
     status = speaker.create_publisher(String, 'robot_status',
                                       status_qos(len(course_text.splitlines())))
@@ -144,8 +146,9 @@ def monitor_with_speaker(ros_context, executor, course_text, tmp_path):
 
 
 def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor, tmp_path):
+    bag = tmp_path / 'run.mcap'
     monitor, output, status, odometry = monitor_with_speaker(ros_context, executor, COURSE,
-                                                             tmp_path)
+                                                             tmp_path, bag=str(bag))
     broken = Odometry()
     broken.pose.pose.position.x = math.nan
     odometry.publish(broken)
@@ -161,6 +164,11 @@ def test_the_monitor_says_what_is_no_status_of_the_course(ros_context, executor,
     printed = ''.join(output)
     assert printed.count('(not a status of this course: ') == 5
     assert '\x1b' not in printed and len(printed) < 2000
+    # The record keeps the course's statuses only, as doc/tools.md says.
+    with open(bag, 'rb') as stream:
+        kept = [deserialize_message(message.data, String).data for _, channel, message
+                in make_reader(stream).iter_messages() if channel.topic == '/robot_status']
+    assert kept == texts[-2:]
 
 
 def test_the_run_exported_as_json_lines_holds_the_same(recorded_run, tmp_path):

@@ -61,3 +61,13 @@ def test_the_python_examples_run_as_shown(tmp_path, monkeypatch):
     for block in blocks:
         exec(compile(block, 'README.md', 'exec'), {})
     assert (tmp_path / 'path.png').stat().st_size > 0
+
+
+def test_every_benchmark_make_bench_runs_has_a_smoke_mode_and_the_helpers_say_they_are_not():
+    makefile = (REPOSITORY / 'Makefile').read_text()
+    benches = re.findall(r'\$\(PYTHON\) -m bench\.(\w+)', makefile)
+    assert len(benches) >= 8
+    for name in benches:
+        assert "'--smoke'" in (REPOSITORY / 'bench' / f'{name}.py').read_text(), name
+    for helper in ('round_trip', 'odometry_listener'):
+        assert 'a helper process' in (REPOSITORY / 'bench' / f'{helper}.py').read_text()
