@@ -145,6 +145,7 @@ class StdrViewer(GuardedNode):
         self._painter = Painter(pygame.font.Font(None, 22))
         self._subscribed = {}
         self._frame_times = deque(maxlen=FRAME_TIMES)
+        self._scene_shown = False
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
@@ -306,6 +307,10 @@ class StdrViewer(GuardedNode):
             for event in pygame.event.get():
                 self._handle(event)
         self.render_frame()
+        if not self._scene_shown and self.scene.cells is not None and self.scene.robots:
+            # Said once, so that a script waiting for a picture of the run knows there is one.
+            self._scene_shown = True
+            self.get_logger().info(f'showing the map and {len(self.scene.robots)} robots')
         if self._window:
             pygame.display.flip()
 

@@ -189,6 +189,10 @@ def kill_simulator(node):
 
 
 def flood(node, goals):
+    # Heard, or a flood would be no attack: the grader's subscription matched first.
+    deadline = time.monotonic() + 30.0
+    while node.status.get_subscription_count() == 0 and time.monotonic() < deadline:
+        spin_for(node, 0.05)
     for _ in range(1000):
         node.report(status_text('WAYPOINT 1', goals[0]))
     # The last of them delivered before this process ends, however loaded the machine.

@@ -140,6 +140,32 @@ def swallowed_by_the_interpreter(signal_number, output):
                                                           for package in OURS))
 
 
+@pytest.mark.parametrize('moment', [0.3, 1.0])
+def test_ctrl_c_ends_a_background_job_of_a_script_while_it_starts(tmp_path, moment):
+    """
+    A script's `prog &` starts prog with SIGINT ignored; its `kill -INT` must still end it.
+
+    Held (blocked) from the package's first line, a signal is kept pending even while ignored
+    (Linux drops an ignored signal only when it is not blocked), until the handlers take it.
+    Before that first line, in Python's own start, an ignored SIGINT is lost: scripts stop
+    what they start with SIGTERM (scripts/swarm.sh).
+    """
+    process = subprocess.Popen([executable('stdr_lite')], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, cwd=tmp_path,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    started = time.monotonic()
+    while time.monotonic() - started < moment:
+        pass  # the moment to send the signal at, not a wait for anything
+    process.send_signal(signal.SIGINT)
+    try:
+        output, _ = process.communicate(timeout=10.0)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        pytest.fail(f'SIGINT at {moment:g} s was lost: still running 10 s later: '
+                    f'{process.communicate()[0][-300:]}')
+    assert process.returncode == 0, output
+
+
 @pytest.mark.parametrize('name', WAITING_ARGUMENTS)
 def test_a_signal_from_the_first_instant_ends_the_program(tmp_path, name):
     (tmp_path / 'waypoints.txt').write_text('3 2 0\n')
