@@ -91,10 +91,17 @@ check-stdr: install $(VENV)/.test-dependencies
 # Reading a robot's sensors once (from outside the tree, so the installed package is the one read)
 # compiles the ray caster into numba's cache beside it: 2.5 s in a new venv, 1 s once cached; here
 # rather than in the first run that reads a laser, whose simulator would stand still meanwhile.
-install: $(VENV)/.dependencies $(VENV)/.interfaces
+# Reinstalled only when a file the package is built from changed (every target runs install:
+# a reinstall each time cost 10-40 s and broke tools running from the venv meanwhile).
+PACKAGE_SOURCES := setup.py setup.cfg package.xml $(shell find simple_robot_control stdr_lite \
+	waypoint_lab waypoint_controller lab_grader config maps robots obstacles launch rviz resource \
+	resources waypoints -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
+install: $(VENV)/.installed
+$(VENV)/.installed: $(VENV)/.dependencies $(VENV)/.interfaces $(PACKAGE_SOURCES)
 	rm -rf build
 	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
 	cd / && $(abspath $(PYTHON)) $(WARM_RAY_CASTER)
+	touch $@
 
 # Interface packages the PyPI wheels lack (tf2_msgs), built into the venv when they do not import.
 $(VENV)/.interfaces: $(VENV)/.dependencies scripts/build_interfaces.sh requirements/interfaces.txt $(shell find interfaces -type f)

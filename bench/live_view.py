@@ -110,7 +110,7 @@ def main(argv=None):
                         help='tiny sizes, seconds: that it runs and prints its figures')
     args = parser.parse_args(argv)
     if args.smoke:
-        args.idle, args.seconds = 3, 1.0
+        args.idle, args.seconds = 20, 2.0
     keep_dds_on_loopback()
     with TemporaryDirectory() as folder:
         folder = Path(folder)

@@ -18,3 +18,4 @@ def assert_smoke_run_prints(name, *patterns, timeout=240):
     for pattern in patterns:
         assert re.search(pattern, result.stdout, re.MULTILINE), (
             f'bench.{name}: no line matching {pattern!r} in:\n{result.stdout[-2000:]}')
+    return result.stdout

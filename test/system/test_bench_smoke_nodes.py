@@ -1,5 +1,7 @@
 """The benchmarks of the running nodes (loop, requests, recorder) run and print their figures."""
 
+import re
+
 from bench_smoke import assert_smoke_run_prints
 
 FIGURE = r'\d+\.\d+x'
@@ -27,8 +29,15 @@ def test_the_recorder_bench_prints_what_it_kept_of_what_was_sent():
                             r'\d\.\d{3} of what was sent recorded$')
 
 
-def test_the_live_view_bench_prints_a_reading_clients_share_and_the_memory():
-    assert_smoke_run_prints(
+def test_the_live_view_bench_keeps_a_reading_clients_share_beside_20_idle_ones():
+    """Its smoke mode is the system test at 20 idle clients (the bench runs 200)."""
+    output = assert_smoke_run_prints(
         'live_view', r'^foxglove_live, a reading client on /clock: \d\.\d{3} of the ticks alone, '
-        r'\d\.\d{3} beside 3 idle clients: \d+\.\d\d of its share$',
+        r'\d\.\d{3} beside 20 idle clients: \d+\.\d\d of its share$',
         r'^foxglove_live memory: \d+ MB before, \d+ MB with the idle clients, \d+ MB after')
+    alone, beside = map(float, re.search(r'(\d\.\d{3}) of the ticks alone, (\d\.\d{3}) '
+                                         'beside', output).groups())
+    assert alone > 0.9 and beside > 0.9, output
+    before, after = map(int, re.search(r'(\d+) MB before, \d+ MB with the idle clients, '
+                                       r'(\d+) MB after', output).groups())
+    assert after <= before * 1.1 + 1, output

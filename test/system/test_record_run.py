@@ -42,7 +42,7 @@ def recording(tmp_path, request):
         assert stop(simulator, signal.SIGINT)[0] == 0
 
 
-@pytest.mark.parametrize('recording', [None, 50], indirect=True, ids=['one robot', '50 robots'])
+@pytest.mark.parametrize('recording', [50], indirect=True, ids=['50 robots'])
 def test_ctrl_c_leaves_a_complete_bag_of_the_run(recording, request):
     recorder, bag = recording
     recorder.send_signal(signal.SIGINT)

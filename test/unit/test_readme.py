@@ -2,6 +2,7 @@
 
 from pathlib import Path
 import re
+import subprocess
 
 import pytest
 from simple_robot_control import foxglove_live
@@ -71,3 +72,10 @@ def test_every_benchmark_make_bench_runs_has_a_smoke_mode_and_the_helpers_say_th
         assert "'--smoke'" in (REPOSITORY / 'bench' / f'{name}.py').read_text(), name
     for helper in ('round_trip', 'odometry_listener'):
         assert 'a helper process' in (REPOSITORY / 'bench' / f'{helper}.py').read_text()
+
+
+def test_make_reinstalls_the_package_only_when_its_sources_changed():
+    # The suite runs after make install: nothing is left for it to do (make -q says so).
+    result = subprocess.run(['make', '-q', 'install'], cwd=REPOSITORY, capture_output=True,
+                            text=True, timeout=60)
+    assert result.returncode == 0, 'make install would reinstall an unchanged package'
