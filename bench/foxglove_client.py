@@ -11,6 +11,9 @@ from websockets.sync.client import connect
 # The subprotocol foxglove-sdk's server speaks (the app's foxglove.websocket.v1, renamed).
 SUBPROTOCOL = 'foxglove.sdk.v1'
 MESSAGE_DATA = 0x01
+# A client that stopped reading sees the server's closing frame only behind what was queued for
+# it: its close waits this long (s) for it (the library's 10 s held every such test).
+CLOSE_TIMEOUT = 1.0
 
 
 class FoxgloveClient:
@@ -32,7 +35,7 @@ class FoxgloveClient:
         self._connection = ExitStack()
         self.socket = self._connection.enter_context(connect(
             f'ws://127.0.0.1:{port}', sock=sock, subprotocols=[SUBPROTOCOL], open_timeout=10.0,
-            max_size=None, ping_interval=None))
+            max_size=None, ping_interval=None, close_timeout=CLOSE_TIMEOUT))
         self.server_info = None
         self.channels = {}
         self.messages = defaultdict(list)
