@@ -27,7 +27,8 @@ from rclpy.serialization import deserialize_message
 COMMAND_TYPES = {'geometry_msgs/msg/Twist': Twist, 'geometry_msgs/Twist': Twist,
                  'geometry_msgs/msg/TwistStamped': TwistStamped,
                  'geometry_msgs/TwistStamped': TwistStamped}
-TYPE_NAMES = {Twist: 'geometry_msgs/msg/Twist', TwistStamped: 'geometry_msgs/msg/TwistStamped'}
+# Each command type's full name, as the graph lists a subscriber's.
+TYPE_NAMES = {kind: name for name, kind in COMMAND_TYPES.items() if '/msg/' in name}
 # A Twist is 52 bytes in CDR, a TwistStamped with a long frame id a few hundred.
 MAX_COMMAND_BYTES = 1024
 # Commands waiting for the executor; a flood beyond this loses its oldest.

@@ -125,8 +125,12 @@ class Arena:
         self.courses.restart(robot, waypoints, start)
 
     def act(self, actions: np.ndarray) -> None:
-        """Hold each robot's (linear m/s, angular rad/s), clipped to the task's speeds."""
-        actions = checks.actions('actions', actions, (len(self.names), 2))
+        """
+        Hold each robot's (linear m/s, angular rad/s), clipped to the task's speeds.
+
+        actions (a row a robot) were checked by the environment that took them.
+        """
+        actions = np.asarray(actions, dtype=float)
         limits = np.array([self.task.max_linear_speed, self.task.max_angular_speed])
         actions = np.clip(actions, -limits, limits)
         self.simulation.command_robots(actions[:, 0], actions[:, 1])

@@ -35,7 +35,11 @@ def positive(name: str, value, at_most: float = math.inf) -> float:
 
 
 def numbers(name: str, value, shape: tuple) -> np.ndarray:
-    """Return value as a float array of exactly shape, every element finite, or raise."""
+    """
+    Return value as a float array of exactly shape, every element finite, or raise.
+
+    Actions go through it too: a NaN action is refused, never driven.
+    """
     try:
         array = np.array(value, dtype=float)
     except (TypeError, ValueError):
@@ -90,8 +94,3 @@ def per_agent(given, agents: list) -> dict:
             raise ValueError(f"options['{key}']: no agent {unknown[0]!r}: the agents are "
                              f'{", ".join(agents)}')
     return checked
-
-
-def actions(name: str, value, shape: tuple) -> np.ndarray:
-    """Return actions of exactly shape, every one finite (a NaN is refused, never driven)."""
-    return numbers(name, value, shape)

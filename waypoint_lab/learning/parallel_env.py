@@ -89,7 +89,7 @@ class WaypointsParallelEnv(ParallelEnv):
                 raise ValueError(f'actions: no agent {agent!r}: the agents are '
                                  f'{", ".join(self.possible_agents)}')
             if agent in self.agents:
-                commands[self._index[agent]] = checks.actions(f'actions[{agent!r}]', action,
+                commands[self._index[agent]] = checks.numbers(f'actions[{agent!r}]', action,
                                                               (2,))
         self.arena.act(commands)
         reward, reached, finished = self.arena.step()

@@ -80,7 +80,7 @@ class WaypointsVectorEnv(VectorEnv):
         return self.arena.observations(), self._infos()
 
     def step(self, actions):
-        actions = checks.actions('actions', actions, (self.num_envs, 2))
+        actions = checks.numbers('actions', actions, (self.num_envs, 2))
         restarting = self._ended.copy()
         actions[restarting] = 0.0
         self.arena.act(actions)

@@ -73,7 +73,7 @@ class WaypointsEnv(gym.Env):
         return self.arena.observations()[0], self._info(False)
 
     def step(self, action):
-        self.arena.act(checks.actions('action', action, (2,))[None, :])
+        self.arena.act(checks.numbers('action', action, (2,))[None, :])
         reward, reached, finished = self.arena.step()
         if reached[0]:
             number = int(self.arena.courses.next[0])
