@@ -21,7 +21,8 @@ from bench.courses import (drive, LEG_KINDS, Loop, lower_bound, random_course, t
 from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import numpy as np
 from simple_robot_control.pose import wrap_angle as wrap
-from waypoint_controller.control_law import ControllerConfig, CourseFollower, FollowerStep
+from waypoint_controller.config import ControllerConfig
+from waypoint_controller.control_law import CourseFollower, FollowerStep, plan_limits
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import plan_to_goal_set
 from waypoint_lab.course import in_goal_set
@@ -134,7 +135,7 @@ def planning_times(courses, config):
         pose = start
         for waypoint, following in zip(poses, poses[1:]):
             began = time.perf_counter()
-            plan = plan_to_goal_set(pose, waypoint, config.limits, following)
+            plan = plan_to_goal_set(pose, waypoint, plan_limits(config), following)
             seconds.append(time.perf_counter() - began)
             pose = plan.pose_at(plan.duration)
     return seconds

@@ -24,7 +24,8 @@ from bench.courses import drive, Loop, lower_bound, random_course, time_limit
 import numpy as np
 from ompl import base as ompl_base
 from simple_robot_control.pose import wrap_angle
-from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.config import ControllerConfig
+from waypoint_controller.control_law import CourseFollower, plan_limits
 from waypoint_controller.planner import TurnPlan
 
 EDGE_DIRECTIONS = 16
@@ -76,7 +77,7 @@ def turn_times(starts: np.ndarray, ends: np.ndarray, config: ControllerConfig) -
     Infinite where no turn does: waypoint_controller's TurnPlan decides, so the bench and the
     controller share one criterion.
     """
-    limits = config.limits
+    limits = plan_limits(config)
     times = np.full((len(starts), len(ends)), np.inf)
     for row, start in enumerate(map(tuple, starts)):
         for column, end in enumerate(map(tuple, ends)):

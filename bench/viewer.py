@@ -13,9 +13,9 @@ import time
 
 from bench.realtime import crowded_simulation
 from stdr_lite.core.robot_description import LaserSpec
+from stdr_lite.viewer.parameters import PARAMETERS
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import LaserReading, Painter, Scene, SonarReading, View
-from stdr_lite.viewer.stdr_viewer import PARAMETERS
 
 PARAMETER_DEFAULTS = {spec.name: spec.default for spec in PARAMETERS}
 

@@ -37,7 +37,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 from simple_robot_control.domains import claim_domain
 from simple_robot_control.share import installed_executable, shared_file
-from waypoint_lab.course import STATUS_TOPIC
+from waypoint_lab.rules import STATUS_TOPIC
 import yaml
 
 PLACEHOLDER = '{waypoints}'

@@ -36,7 +36,8 @@ from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK
 from simple_robot_control.share import shared_file
 from simple_robot_control.validation import Bounds, compact, is_ros_name
-from waypoint_lab.course import ANGLE_TOLERANCE, Course, DISTANCE_TOLERANCE, TIME_LIMIT
+from waypoint_lab.course import Course
+from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
 MEMORY = Bounds(0, 1 << 20)

@@ -14,7 +14,7 @@ from rclpy.serialization import deserialize_message
 from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
 from std_msgs.msg import String
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import parse_status
 
 # Everything the run is judged by is kept, however far behind the recorder falls (a lockstep

@@ -25,7 +25,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, BagWriter, RUN_METADATA
 from simple_robot_control.input_files import output_problem
-from simple_robot_control.node_runtime import ConfigError
+from simple_robot_control.validation import ConfigError
 
 GRAPH_PERIOD = 0.5
 DEPTH = 1000

@@ -4,8 +4,10 @@ The entry points of the package's executables, as setup.py installs them.
 Each sets quiet handlers for Ctrl-C and SIGTERM before anything heavy is imported (numpy, scipy
 and rclpy take about a second to load), then takes the signals held since the interpreter's
 first lines (early_signals.py), so a signal in that second ends the program with exit code 0
-and no traceback; the node runtime takes the signals over once the node runs. The code
-of each executable lives in the module named after it, listed here.
+and no traceback; the node runtime takes the signals over once the node runs. Then the ROS
+parameters of the command line are judged against the node's table (a light module), so a
+bad value is refused in a tenth of a second, before that load. The code of each executable
+lives in the module named after it, listed here with its parameter table.
 """
 
 from functools import partial
@@ -14,8 +16,12 @@ import os
 import signal
 import sys
 
+from simple_robot_control.early_parameters import early_problem
 from simple_robot_control.early_signals import release_signals
+from simple_robot_control.exit_codes import EXIT_BAD_INPUT
 
+# Each executable's module, and its node's parameter table ('module:NAME') where it takes ROS
+# parameters.
 MODULES = {
     'stdr_lite': 'stdr_lite.node.stdr_lite',
     'stdr_viewer': 'stdr_lite.viewer.stdr_viewer',
@@ -29,6 +35,16 @@ MODULES = {
     'grade_lab': 'lab_grader.grade_lab',
     'policy_controller': 'waypoint_lab.learning.policy_controller',
 }
+PARAMETER_TABLES = {
+    'stdr_lite': 'stdr_lite.node.parameters:PARAMETERS',
+    'stdr_viewer': 'stdr_lite.viewer.parameters:PARAMETERS',
+    'move_robot': 'stdr_lite.tools.parameters:MOVE_ROBOT_PARAMETERS',
+    'waypoint_controller': 'waypoint_controller.parameters:PARAMETERS',
+    'course_monitor': 'waypoint_lab.parameters:COURSE_MONITOR_PARAMETERS',
+    'record_run': 'waypoint_lab.parameters:RECORD_RUN_PARAMETERS',
+    'foxglove_live': 'simple_robot_control.foxglove_live_parameters:PARAMETERS',
+    'policy_controller': 'waypoint_lab.parameters:POLICY_CONTROLLER_PARAMETERS',
+}
 
 
 def _end_at_once(signal_number, frame):
@@ -37,6 +53,24 @@ def _end_at_once(signal_number, frame):
 
 def _leave_quietly(signal_number, frame):
     raise SystemExit(0)
+
+
+def parameter_table(name: str) -> tuple:
+    """Return the ParameterSpecs of the executable name's node; () where it takes none."""
+    if name not in PARAMETER_TABLES:
+        return ()
+    module, _, table = PARAMETER_TABLES[name].partition(':')
+    return getattr(importlib.import_module(module), table)
+
+
+def _refuse_early(name):
+    """End the program with the node's own refusal of a parameter, where sure of it."""
+    specs = parameter_table(name)
+    problem = early_problem(sys.argv, name, specs) if specs else None
+    if problem is not None:
+        print(f'{name}: error: {problem}', file=sys.stderr)
+        sys.stderr.flush()
+        os._exit(EXIT_BAD_INPUT)
 
 
 def _handle_signals(handler):
@@ -58,6 +92,7 @@ def start(name):
     """
     _handle_signals(_end_at_once)
     release_signals()
+    _refuse_early(name)
     module = importlib.import_module(MODULES[name])
     _handle_signals(_leave_quietly)
     try:

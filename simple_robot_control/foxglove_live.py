@@ -13,26 +13,12 @@ import sys
 
 from rclpy.task import Future
 from simple_robot_control.bag_recording import BagRecording
+from simple_robot_control.foxglove_live_parameters import PARAMETERS
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.live_view import BACKLOG, exposure_line, LiveView
 from simple_robot_control.node_runtime import build_parser, run
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
-from simple_robot_control.validation import Bounds
+from simple_robot_control.parameters import declare_parameters
 
-PARAMETERS = (
-    ParameterSpec('host', '127.0.0.1', 'the address to serve on: 127.0.0.1 is this machine only '
-                  '(reach it from another through ssh -L 8765:localhost:8765); 0.0.0.0 opens it '
-                  'to the network, with no authentication'),
-    ParameterSpec('port', 8765, 'the TCP port to serve on (0: a free one, printed)',
-                  bounds=Bounds(0, 65535)),
-    ParameterSpec('topics', ('*',), 'the topics to offer: full names or patterns (* and ?, as '
-                  'in shell globs); each is subscribed only while a client shows it'),
-    ParameterSpec('command_topics', ('*/cmd_vel',), 'the topics clients may publish on '
-                  '(geometry_msgs Twist or TwistStamped, as the Teleop panel sends): names or '
-                  'patterns; nothing else can be published through Foxglove'),
-    ParameterSpec('bag', '', 'also record the offered topics into this bag, an .mcap file '
-                  "(replaced if it exists); '' records nothing"),
-)
 
 DESCRIPTION = ("foxglove_live: serve a run's topics (the map, robots, lasers, sonars, TF, "
                'robot_status; any topic) to Foxglove over its WebSocket protocol, live, and '

@@ -43,7 +43,7 @@ from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, message_definition
 from simple_robot_control.bag_recording import message_class, subscription_qos
 from simple_robot_control.live_commands import CommandChannels
-from simple_robot_control.node_runtime import ConfigError
+from simple_robot_control.validation import ConfigError
 
 GRAPH_PERIOD = 0.5
 # How soon a client's subscription or command is acted on (s).

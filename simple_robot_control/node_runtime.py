@@ -19,6 +19,7 @@ from rclpy.task import Future
 from rclpy.utilities import get_default_context, remove_ros_args
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
+from simple_robot_control.validation import ConfigError
 
 SIGNAL_CHECK_PERIOD = 0.1
 # Up to this many publishers and subscriptions, a node is taken down endpoint by endpoint. The
@@ -36,16 +37,6 @@ EXIT_INTERRUPTED_TWICE = 130
 ENDING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 # rcl reports where in its C sources it found a problem: of no use to the user.
 _SOURCE_LOCATION = re.compile(r'(?:, at [^,]*\.c:\d+)+')
-
-
-class ConfigError(Exception):
-    """A configuration problem reported as one line, ending the program with exit code 2."""
-
-
-def require(condition, message):
-    """Raise ConfigError(message) unless condition holds."""
-    if not condition:
-        raise ConfigError(message)
 
 
 def build_parser(prog, description, specs):

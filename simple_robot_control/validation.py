@@ -17,6 +17,16 @@ _DECIMAL = re.compile(r'^[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?$'
 _TOKEN = re.compile(r'^[A-Za-z][A-Za-z0-9_]*$')
 
 
+class ConfigError(Exception):
+    """A configuration problem reported as one line, ending the program with exit code 2."""
+
+
+def require(condition: object, message: str) -> None:
+    """Raise ConfigError(message) unless condition holds."""
+    if not condition:
+        raise ConfigError(message)
+
+
 def compact(value: object) -> str:
     """Write a number briefly (12 significant digits at most), anything else as repr."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 import math
 
 from simple_robot_control.pose import wrap_angle as wrap
+from waypoint_controller.config import ControllerConfig
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
-from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, in_goal_set,
-                                 MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED)
+from waypoint_lab.course import in_goal_set
 
 # Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
 # one control period's motion, means planning again, to the same end pose: smaller errors are
@@ -29,39 +29,14 @@ STRAY_PERIODS = 1.5
 RECHOOSE_DISTANCE = 0.1
 
 
+def plan_limits(config: ControllerConfig) -> Limits:
+    """Return the limits and goal set the planner plans with under config."""
+    return Limits(config.max_linear_speed, config.max_angular_speed, config.distance_tolerance,
+                  config.angle_tolerance)
+
+
 def _clamp(value, limit):
     return max(-limit, min(limit, value))
-
-
-@dataclass(frozen=True)
-class ControllerConfig:
-    """Limits, goal set and gains; SI units and radians."""
-
-    max_linear_speed: float = MAX_LINEAR_SPEED
-    max_angular_speed: float = MAX_ANGULAR_SPEED
-    distance_tolerance: float = DISTANCE_TOLERANCE
-    angle_tolerance: float = ANGLE_TOLERANCE
-    heading_kp: float = 4.0
-    heading_ki: float = 0.5
-    heading_kd: float = 0.0
-    distance_kp: float = 5.0
-    distance_ki: float = 0.0
-    distance_kd: float = 0.0
-
-    def validate(self):
-        """Raise ValueError naming the first field out of range."""
-        for name in ('max_linear_speed', 'max_angular_speed', 'distance_tolerance',
-                     'angle_tolerance', 'heading_kp', 'distance_kp'):
-            if not getattr(self, name) > 0.0:
-                raise ValueError(f'{name} must be positive, got {getattr(self, name)}')
-        for name in ('heading_ki', 'heading_kd', 'distance_ki', 'distance_kd'):
-            if not getattr(self, name) >= 0.0:
-                raise ValueError(f'{name} must be >= 0, got {getattr(self, name)}')
-
-    @property
-    def limits(self) -> Limits:
-        return Limits(self.max_linear_speed, self.max_angular_speed, self.distance_tolerance,
-                      self.angle_tolerance)
 
 
 def _as_pose(waypoint):
@@ -121,7 +96,7 @@ class PoseController:
         self._heading_pid.reset()
         self._distance_pid.reset()
         self._elapsed = 0.0
-        limits = self.config.limits
+        limits = plan_limits(self.config)
         plan = None
         if not rechoose:
             plan = fastest_plan(pose, self.target, limits, self._direction)

@@ -16,19 +16,20 @@ from simple_robot_control.graph import (command_type_problem, deliver_before_exi
                                         DISCOVERY_TIME, MISMATCH_PATIENCE, other_publishers,
                                         SETTLED_FOR)
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.occupancy_map import MapError, OccupancyMap
-from simple_robot_control.parameters import accept_tuning, declare_parameters, ParameterSpec
+from simple_robot_control.parameters import accept_tuning, declare_parameters
 from simple_robot_control.pose import pose_from_message
-from simple_robot_control.validation import Bounds
+from simple_robot_control.validation import ConfigError
 from simple_robot_control.velocity import VelocityPublisher
 from std_msgs.msg import String
 from waypoint_controller.continuity import jump_problem
-from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.control_law import CourseFollower
+from waypoint_controller.parameters import DEFAULTS, PARAMETERS
 from waypoint_controller.schedule import ControlSchedule
 from waypoint_controller.stall import StallDetector
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
-from waypoint_lab.interface import course_message, COURSE_PARAMETERS, load_course, status_qos
+from waypoint_lab.interface import course_message, load_course, status_qos
+from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import aborted, finished, started, waypoint_reached
 
 # Wall-clock seconds. Odometry is held this long after the node is made, which covers discovery
@@ -49,38 +50,6 @@ EXIT_WAIT = DISCOVERY_TIME
 INTERRUPTED_WAIT = 0.25
 
 STOP = (0.0, 0.0)
-
-SPEED = Bounds(0.0, 10.0, low_open=True)
-GAIN = Bounds(0.0, 1000.0)
-PROPORTIONAL_GAIN = Bounds(0.0, 1000.0, low_open=True)
-
-DEFAULTS = ControllerConfig()
-PARAMETERS = COURSE_PARAMETERS + (
-    ParameterSpec('max_linear_speed', DEFAULTS.max_linear_speed, 'speed limit [m/s]', SPEED,
-                  tunable=True),
-    ParameterSpec('max_angular_speed', DEFAULTS.max_angular_speed, 'turn-rate limit [rad/s]',
-                  SPEED, tunable=True),
-    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of odometry stamp time]',
-                  Bounds(5.0, 100.0)),
-    ParameterSpec('stall_timeout', 10.0, 'abort when no progress towards the current waypoint '
-                  'for this long [s of odometry stamp time]', Bounds(0.0, 3600.0, low_open=True)),
-    ParameterSpec('heading_kp', DEFAULTS.heading_kp, 'heading PID proportional gain [1/s]',
-                  PROPORTIONAL_GAIN, tunable=True),
-    ParameterSpec('heading_ki', DEFAULTS.heading_ki, 'heading PID integral gain [1/s^2]', GAIN,
-                  tunable=True),
-    ParameterSpec('heading_kd', DEFAULTS.heading_kd, 'heading PID derivative gain [-]', GAIN,
-                  tunable=True),
-    ParameterSpec('distance_kp', DEFAULTS.distance_kp, 'distance PID proportional gain [1/s]',
-                  PROPORTIONAL_GAIN, tunable=True),
-    ParameterSpec('distance_ki', DEFAULTS.distance_ki, 'distance PID integral gain [1/s^2]',
-                  GAIN, tunable=True),
-    ParameterSpec('distance_kd', DEFAULTS.distance_kd, 'distance PID derivative gain [-]', GAIN,
-                  tunable=True),
-    ParameterSpec('robot_radius', 0.2, 'footprint radius kept off the walls of /map, when '
-                  'a map is published [m]', Bounds(0.0, 10.0)),
-    ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
-                  'simulator (or robot) that takes them so'),
-)
 
 _CONFIG_FIELDS = ('max_linear_speed', 'max_angular_speed', 'distance_tolerance', 'heading_kp',
                   'heading_ki', 'heading_kd', 'distance_kp', 'distance_ki', 'distance_kd')

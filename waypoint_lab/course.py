@@ -3,32 +3,20 @@ The lab's course and its goal set: the rules every controller is judged by. No R
 
 A course is a list of waypoints (x, y, theta) reached in turn from a start pose. The goal set
 of a waypoint is every pose within d metres of it whose heading is within t of its heading
-(wrapped): the lab's d = 0.1 m and t = 5 degrees unless a course says otherwise. A controller
+(wrapped): the lab's d = 0.1 m and t = 5 degrees (rules.py) unless a course says
+otherwise. A controller
 reports on the topic robot_status (status.py) and publishes its course on waypoints; a bag
 holds both under their absolute names.
 """
 
 from dataclasses import dataclass, field
-import math
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.pose import wrap_angle
+from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, START, TIME_LIMIT
 from waypoint_lab.waypoints import Waypoint
-
-DISTANCE_TOLERANCE = 0.1
-ANGLE_TOLERANCE = math.radians(5.0)
-# Where the lab's robot starts (the lab's STDR launch puts robot0 there).
-START = (1.0, 2.0, 0.0)
-TIME_LIMIT = 120.0
-# The speeds the lab's robot is driven at unless a controller is told otherwise: the reference
-# controller's limits and the learning task's action bounds.
-MAX_LINEAR_SPEED = 0.5
-MAX_ANGULAR_SPEED = 1.0
-STATUS_TOPIC = 'robot_status'
-# The course a controller follows, as a nav_msgs/Path (transient local): for RViz and bags.
-COURSE_TOPIC = 'waypoints'
 
 
 @dataclass(frozen=True)

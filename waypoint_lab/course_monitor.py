@@ -8,7 +8,6 @@ any odometry, by the first). The record is a rosbag2 bag in MCAP (bag_recording.
 plot_run draws.
 """
 
-import dataclasses
 import math
 import os
 import sys
@@ -23,24 +22,18 @@ from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, run
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
+from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import shorten
 from std_msgs.msg import String
-from waypoint_lab.course import STATUS_TOPIC
-from waypoint_lab.interface import COURSE_PARAMETERS, load_course, status_qos
-from waypoint_lab.record_run import RUN_TOPICS
+from waypoint_lab.interface import load_course, status_qos
+from waypoint_lab.parameters import COURSE_MONITOR_PARAMETERS, RUN_TOPICS
+from waypoint_lab.rules import STATUS_TOPIC
 from waypoint_lab.status import ABORTED, FINISHED, parse_status, STARTED, WAYPOINT
 
 PROGRESS_PERIOD = 0.1
 BAR_WIDTH = 20
 
-# The monitor only describes the run: the controller's tunable values are fixed here.
-PARAMETERS = tuple(dataclasses.replace(spec, tunable=False) for spec in COURSE_PARAMETERS) + (
-    ParameterSpec('bag', '', "record the run's topics (robot_status, the course, odometry, "
-                  'ground truth, TF, map, clock) into this rosbag2 bag in MCAP, for plot_run, '
-                  'ros2 bag and Foxglove; empty: no record'),
-)
 
 DESCRIPTION = ('course_monitor: print each robot_status message of a waypoint_controller run '
                'as it arrives, with a progress line (waypoints done, sim and wall time) on a '
@@ -54,7 +47,7 @@ class CourseMonitor(GuardedNode):
     def __init__(self, waypoint_file=None, write=None, interactive=None, **kwargs):
         super().__init__('course_monitor', **kwargs)
         self.finished = Future()
-        params = declare_parameters(self, PARAMETERS)
+        params = declare_parameters(self, COURSE_MONITOR_PARAMETERS)
         path, waypoints = load_course(self, waypoint_file, params['waypoint_file'])
         self._write = write or _write_stdout
         self._interactive = sys.stdout.isatty() if interactive is None else interactive
@@ -168,7 +161,7 @@ def _write_stdout(text):
 
 
 def main(argv=None):
-    parser = build_parser('course_monitor', DESCRIPTION, PARAMETERS)
+    parser = build_parser('course_monitor', DESCRIPTION, COURSE_MONITOR_PARAMETERS)
     parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
                         help='the course the controller follows (for the waypoint count and '
                         'the record); the waypoint_file parameter is the alternative')

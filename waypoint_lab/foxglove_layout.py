@@ -19,8 +19,8 @@ its sonars' ranges plotted (the 3D panel draws no sensor_msgs/Range).
 import json
 
 import foxglove.layouts as fl
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
-from waypoint_lab.interface import COURSE_PARAMETERS
+from waypoint_lab.parameters import COURSE_PARAMETERS
+from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 
 ROBOT = next(spec.default for spec in COURSE_PARAMETERS if spec.name == 'robot_name')
 # The sensors of the lab's robot, as robots/lab_robot.yaml mounts them (a test checks).

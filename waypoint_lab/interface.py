@@ -1,36 +1,18 @@
 """
-The lab on ROS: the course as parameters, robot_status's QoS, the course as a nav_msgs/Path.
+The lab on ROS: the course read, robot_status's QoS, the course as a nav_msgs/Path.
 
 A controller and a monitor of its run (course_monitor, a learned policy's controller) read
-the course by the same rules, declare these parameters with the same meaning, and use the same
-QoS for robot_status, so any of them can watch or grade any other.
+the course by the same rules, declare its parameters with the same meaning (parameters.py),
+and use the same QoS for robot_status, so any of them can watch or grade any other.
 """
-
-import math
 
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from simple_robot_control.node_runtime import ConfigError, require
-from simple_robot_control.parameters import ParameterSpec
 from simple_robot_control.pose import set_pose
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
-from simple_robot_control.validation import Bounds
-from waypoint_lab.course import ANGLE_TOLERANCE, DISTANCE_TOLERANCE
+from simple_robot_control.validation import ConfigError, require
 from waypoint_lab.waypoints import load_waypoints, WaypointFileError
-
-COURSE_PARAMETERS = (
-    ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
-                  'empty: the command-line argument, or else the bundled '
-                  f'{BUNDLED_COURSE[-1]}'),
-    ParameterSpec('robot_name', 'robot0', 'the robot of the run: topics <name>/odom and '
-                  '<name>/cmd_vel', ros_name=True),
-    ParameterSpec('distance_tolerance', DISTANCE_TOLERANCE, 'goal set radius d [m]',
-                  Bounds(0.0, 10.0, low_open=True), tunable=True),
-    ParameterSpec('angle_tolerance_deg', math.degrees(ANGLE_TOLERANCE),
-                  'goal set heading tolerance t [degrees, as in the lab]',
-                  Bounds(0.0, 180.0, low_open=True), tunable=True),
-)
 
 
 def load_course(node, argument, parameter):

@@ -11,20 +11,9 @@ from rclpy.task import Future
 from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, run
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
+from simple_robot_control.parameters import declare_parameters
+from waypoint_lab.parameters import RECORD_RUN_PARAMETERS
 
-# What makes a run of the lab: the controller's reports and course, every robot's odometry,
-# ground truth and sensors (named laser_N and sonar_N, as STDR's robot files name them), the
-# frames, the map and the time.
-RUN_TOPICS = (f'/{STATUS_TOPIC}', f'/{COURSE_TOPIC}', '/tf', '/tf_static', '/map', '/clock',
-              '*/odom', '*/ground_truth', '*/laser_*', '*/sonar_*')
-
-PARAMETERS = (
-    ParameterSpec('bag', 'run.mcap', 'the bag to write, an .mcap file (replaced if it exists)'),
-    ParameterSpec('topics', RUN_TOPICS, 'the topics to record: full names or patterns (* and ?, '
-                  "as in shell globs: '*/odom' is every robot's odometry)"),
-)
 
 DESCRIPTION = ('record_run: record the topics of a run (robot_status, the course, odometry, '
                'ground truth, lasers, sonars, TF, map, clock; or those given) into a rosbag2 '
@@ -39,7 +28,7 @@ class RunRecorder(GuardedNode):
         super().__init__('record_run', **kwargs)
         # Recording ends only when asked to (Ctrl-C): nothing sets this.
         self.finished = Future()
-        params = declare_parameters(self, PARAMETERS)
+        params = declare_parameters(self, RECORD_RUN_PARAMETERS)
         self.recording = BagRecording(self, bag or params['bag'], topics or params['topics'],
                                       send_times=True)
 
@@ -53,7 +42,7 @@ class RunRecorder(GuardedNode):
 
 
 def main(argv=None):
-    parser = build_parser('record_run', DESCRIPTION, PARAMETERS)
+    parser = build_parser('record_run', DESCRIPTION, RECORD_RUN_PARAMETERS)
     sys.exit(run('record_run', parser, lambda options: RunRecorder(), argv))
 
 

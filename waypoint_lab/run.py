@@ -27,7 +27,8 @@ from simple_robot_control.bag import RUN_METADATA
 from simple_robot_control.bag_reading import BagMessages, BagReadError
 from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import Bounds
-from waypoint_lab.course import Course, COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.course import Course
+from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import parse_status, Status
 from waypoint_lab.waypoints import MAX_WAYPOINTS, POSITION, Waypoint
 

@@ -4,14 +4,7 @@ import enum
 import math
 
 import numpy as np
-
-# STDR applies every command as given. A finite bound stays, so that no command can make one
-# step's swept path (checked a quarter cell at a time) cost without end: at 100 m/s and 50 Hz
-# a step is 2 m, 160 samples of a 5 cm map. The parameters safety_linear_speed and
-# safety_angular_speed raise it, up to SAFETY_CEILING (a 200 m step: 16,000 samples).
-SAFETY_LINEAR_SPEED = 100.0
-SAFETY_ANGULAR_SPEED = 100.0
-SAFETY_CEILING = 10_000.0
+from stdr_lite.core.setting_values import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 
 
 class CommandOutcome(enum.Enum):

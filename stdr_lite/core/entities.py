@@ -3,15 +3,12 @@
 from dataclasses import dataclass, field, replace
 import enum
 
-from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import Noise, RobotDescription
+from stdr_lite.core.setting_values import (SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED,
+                                           SENSOR_NOISE_MODES)
 
 NANOSECONDS = 1_000_000_000
-# Whose described sensor noise is applied: 'auto' reads a file in STDR's layouts (XML, nested
-# YAML) as STDR does, which never applies its files' noise, and applies the flat layout's (the
-# bundled robots'); 'all' applies every file's; 'none' no file's.
-SENSOR_NOISE_MODES = ('auto', 'all', 'none')
 
 
 class RequestError(ValueError):

@@ -12,6 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.pose import wrap_angle
+from stdr_lite.core.setting_values import ARC, EULER
 
 
 def euler_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
@@ -63,5 +64,5 @@ def arc_step_one(x: float, y: float, theta: float, v: float, omega: float,
             wrap_angle(theta + omega * dt))
 
 
-INTEGRATORS = {'euler': euler_step, 'arc': arc_step}
-INTEGRATORS_ONE = {'euler': euler_step_one, 'arc': arc_step_one}
+INTEGRATORS = {EULER: euler_step, ARC: arc_step}
+INTEGRATORS_ONE = {EULER: euler_step_one, ARC: arc_step_one}

@@ -12,10 +12,8 @@ from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import bundled_files, BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.robot_description import load_robot, RobotEntry
+from stdr_lite.core.setting_values import DEFAULT_POSE
 from stdr_lite.core.simulation import Simulation
-
-# Where a robot starts unless told otherwise (the node's initial_pose default too).
-DEFAULT_POSE = (1.0, 2.0, 0.0)
 
 
 def map_file(name: str | os.PathLike = '') -> str:

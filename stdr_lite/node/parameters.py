@@ -1,22 +1,19 @@
-"""The stdr_lite node's parameters, and the simulation they describe."""
+"""
+The stdr_lite node's parameters and the frames they name: plain data, light to load.
 
-from dataclasses import dataclass, replace
+The executable judges a command line against this table before the simulation's code loads
+(early_parameters.py); simulation_setup.py builds the simulation the parameters describe.
+"""
+
+from dataclasses import dataclass
 import os
 
-from simple_robot_control.node_runtime import ConfigError, require
-from simple_robot_control.occupancy_map import MapError
-from simple_robot_control.parameters import ParameterSpec
-from simple_robot_control.share import BUNDLED_RESOURCES, BUNDLED_ROBOT, shared_file
-from simple_robot_control.validation import Bounds, NON_NEGATIVE, shorten
-from stdr_lite.core.commands import SAFETY_ANGULAR_SPEED, SAFETY_CEILING, SAFETY_LINEAR_SPEED
-from stdr_lite.core.entities import SENSOR_NOISE_MODES
-from stdr_lite.core.kinematics import INTEGRATORS
-from stdr_lite.core.loading import DEFAULT_POSE, load_world
-from stdr_lite.core.odometry import OdometryNoise
-from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
-from stdr_lite.core.robot_list import load_robot_list
-from stdr_lite.core.simulation import RequestError, SimulationSettings
-from stdr_lite.core.world import PlacementError
+from simple_robot_control.parameter_specs import ParameterSpec
+from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
+from simple_robot_control.validation import Bounds, NON_NEGATIVE, require, shorten
+from stdr_lite.core.setting_values import (DEFAULT_POSE, INTEGRATOR_NAMES, SAFETY_ANGULAR_SPEED,
+                                           SAFETY_CEILING, SAFETY_LINEAR_SPEED,
+                                           SENSOR_NOISE_MODES)
 
 FRAME_STYLES = ('rep105', 'stdr')
 OPTIONAL_TOPICS = ('auto', 'eager', 'on_demand')
@@ -35,7 +32,7 @@ PARAMETERS = (
     ParameterSpec('rate_hz', 50.0, 'simulation steps per simulated second; dt = 1/rate_hz',
                   Bounds(1.0, 1000.0)),
     ParameterSpec('integrator', 'euler', "'euler' (the lab's equation 2) or 'arc' (exact "
-                  'constant-velocity arc)', choices=tuple(INTEGRATORS)),
+                  'constant-velocity arc)', choices=INTEGRATOR_NAMES),
     ParameterSpec('real_time_factor', 1.0, 'simulated seconds per wall-clock second; 0 steps '
                   'as fast as the CPU allows', Bounds(0.0, 10000.0)),
     ParameterSpec('lockstep', False, 'advance only once every robot has answered its latest '
@@ -165,48 +162,8 @@ def frames(params):
                   params['frame_style'])
 
 
-def build_simulation(params, folders):
-    """
-    Return the simulation the parameters describe, and the robots' default description.
-
-    folders is where robot files' includes are looked for (search_path). Anything that cannot
-    be used raises ConfigError with one line naming it.
-    """
-    require(params['odom_rate_hz'] <= params['rate_hz'],
-            f'odom_rate_hz must be at most rate_hz ({params["rate_hz"]:g}), got '
-            f'{params["odom_rate_hz"]:g}')
-    settings = SimulationSettings(
-        odometry_noise=OdometryNoise(params['odom_noise_distance'], params['odom_noise_turn'],
-                                     params['odom_noise_heading_per_distance']),
-        **{name: params[name] for name in (
-            'rate_hz', 'integrator', 'max_linear_speed', 'max_angular_speed',
-            'safety_linear_speed', 'safety_angular_speed', 'cmd_vel_timeout',
-            'sensor_seed', 'sensor_noise', 'odom_rate_hz', 'odom_seed', 'motion_seed')})
-    try:
-        description = load_robot(params['robot_description'] or shared_file(*BUNDLED_ROBOT),
-                                 folders)
-        entries = _robot_entries(params, description, folders)
-        return load_world(params['map_yaml'], entries, settings), description
-    except (MapError, RobotFileError, PlacementError, RequestError) as error:
-        raise ConfigError(str(error)) from None
-
-
 def search_path(params):
     """Return where robot files' includes are looked for: resource_paths, then the bundled."""
     for folder in params['resource_paths']:
         require(os.path.isdir(folder), f'resource_paths: {shorten(folder)} is not a folder')
     return tuple(params['resource_paths']) + (shared_file(*BUNDLED_RESOURCES),)
-
-
-def _robot_entries(params, description, folders):
-    single = {name: params[name] for name in ('robot_name', 'robot_radius', 'initial_pose')}
-    if not params['robots_file']:
-        require(len(single['initial_pose']) == 3,
-                f'initial_pose must be [x, y, theta], got {single["initial_pose"]}')
-        if single['robot_radius'] > 0.0:
-            description = replace(description, radius=single['robot_radius'], points=())
-        return [RobotEntry(single['robot_name'], description, tuple(single['initial_pose']))]
-    changed = [spec.name for spec in PARAMETERS
-               if spec.name in single and single[spec.name] != spec.default]
-    require(not changed, f'robots_file lists the robots; drop {", ".join(changed)}')
-    return load_robot_list(params['robots_file'], description, folders)

@@ -10,10 +10,10 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import compose, planar_pose
-from simple_robot_control.validation import describe, shorten
+from simple_robot_control.validation import ConfigError, describe, shorten
 from simulation_interfaces.msg import SimulationState
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
@@ -25,11 +25,12 @@ from stdr_lite.node.graph_watch import GraphWatch
 from stdr_lite.node.health import HealthWatch
 from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
-from stdr_lite.node.parameters import (build_simulation, frames, ON_DEMAND_ABOVE, PARAMETERS,
-                                       search_path, STDR_STATIC_FRAME)
+from stdr_lite.node.parameters import (frames, ON_DEMAND_ABOVE, PARAMETERS, search_path,
+                                       STDR_STATIC_FRAME)
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.served import Served
+from stdr_lite.node.simulation_setup import build_simulation
 from stdr_lite.node.stepper import Stepper
 from stdr_lite.node.supervisor_link import SupervisorLink
 

@@ -12,29 +12,18 @@ from rclpy.time import Time
 from simple_robot_control.exit_codes import EXIT_FAILED, EXIT_OK
 from simple_robot_control.graph import command_type_problem, MISMATCH_PATIENCE
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
+from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import pose_from_message
-from simple_robot_control.validation import Bounds
+from simple_robot_control.validation import ConfigError
 from simple_robot_control.velocity import VelocityPublisher
 from stdr_lite.tools.exact_steps import ExactSteps, SimulatorUnavailable
 from stdr_lite.tools.lab_session import ask_motion, EndOfInput, format_pose
+from stdr_lite.tools.parameters import MOVE_ROBOT_PARAMETERS
 
 # Wall seconds the stop command at exit may take to be received.
 STOP_DELIVERY = 0.4
 
-PARAMETERS = (
-    ParameterSpec('robot_name', 'robot0', 'robot to drive: topics <name>/cmd_vel and '
-                  '<name>/odom', ros_name=True),
-    ParameterSpec('odom_timeout', 10.0, 'give up when no odometry arrives for this long '
-                  '[s of wall time]', Bounds(0.0, 3600.0, low_open=True)),
-    ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
-                  'simulator that takes them so'),
-    ParameterSpec('simulator', 'stdr_lite', "the simulator's node, whose simulation_interfaces "
-                  'API (pause, simulate_steps) holds each command for exactly its duration; '
-                  'without it, moves are timed by the odometry and may end a step late',
-                  ros_name=True),
-)
 
 DESCRIPTION = ('move_robot: drive a simulated robot by hand, as in the lab. Asks for a linear '
                'velocity (m/s), a rotational velocity (degrees/s) and a duration (s of sim '
@@ -54,7 +43,7 @@ class MoveRobot(GuardedNode):
 
     def __init__(self, read_line=None, write=None, **kwargs):
         super().__init__('move_robot', **kwargs)
-        params = declare_parameters(self, PARAMETERS)
+        params = declare_parameters(self, MOVE_ROBOT_PARAMETERS)
         self._odom_timeout = params['odom_timeout']
         self._read_line = read_line or _read_stdin_line
         self._write = write or _write_stdout
@@ -233,7 +222,7 @@ def _write_stdout(text):
 
 
 def main(argv=None):
-    parser = build_parser('move_robot', DESCRIPTION, PARAMETERS)
+    parser = build_parser('move_robot', DESCRIPTION, MOVE_ROBOT_PARAMETERS)
     sys.exit(run('move_robot', parser, lambda options: MoveRobot(), argv))
 
 

@@ -23,15 +23,16 @@ from sensor_msgs.msg import LaserScan, Range
 from simple_robot_control.exit_codes import EXIT_OK
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.input_files import output_problem
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
+from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.occupancy_map import MapError, OccupancyMap
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
+from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
-from simple_robot_control.validation import Bounds, describe
+from simple_robot_control.validation import Bounds, ConfigError, describe
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotFileError
-from stdr_lite.node.parameters import RESOURCE_PATHS, search_path, STDR_STATIC_FRAME
+from stdr_lite.node.parameters import search_path, STDR_STATIC_FRAME
+from stdr_lite.viewer.parameters import PARAMETERS
 from stdr_lite.viewer.pygame_quiet import pygame
 from stdr_lite.viewer.scene import (LaserReading, ObstacleView, Painter, RobotLook, Scene,
                                     SonarReading, View)
@@ -58,17 +59,6 @@ OBSTACLE_MARKERS = {'static_obstacle': False, 'moving_obstacle': True}
 # /<robot>/<topic>, where <robot> may be a nested namespace (team_a/scout).
 ROBOT_TOPIC = re.compile(r'^/((?:[A-Za-z_]\w*/)*[A-Za-z_]\w*)/([A-Za-z_]\w*)$')
 
-PARAMETERS = (
-    ParameterSpec('robot_description', '', "robot file giving the robots' footprint and "
-                  'sensor mounts where the simulator publishes no markers and /tf_static (as '
-                  'stdr_lite does); empty for the bundled lab robot'),
-    RESOURCE_PATHS,
-    ParameterSpec('width', 1000, 'window width [pixels]', Bounds(200, 10000)),
-    ParameterSpec('height', 750, 'window height [pixels]', Bounds(150, 10000)),
-    ParameterSpec('fps', 30.0, 'frames drawn per second of wall time', Bounds(1.0, 120.0)),
-    ParameterSpec('screenshot', '', 'write the last frame to this PNG file on exit; empty: '
-                  'none'),
-)
 
 DESCRIPTION = ('stdr_viewer: a live view of a stdr_lite (or STDR) world: the map, each robot '
                'with its name, heading and trail, laser fans in red, sonar cones in green, and '

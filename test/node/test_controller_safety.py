@@ -6,8 +6,8 @@ import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import overrides, spin_for, spin_until, wait_for_subscribers
-from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import set_pose
+from simple_robot_control.validation import ConfigError
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import (FIRST_ANSWER_AFTER, NEWCOMER_FOR,

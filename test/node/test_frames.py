@@ -11,9 +11,9 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_until
 from sensor_msgs.msg import LaserScan, Range
-from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import compose, pose_from_message, yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
+from simple_robot_control.validation import ConfigError
 from simulation_interfaces.srv import SpawnEntity
 from stdr_lite.core.robot_description import load_robot
 from stdr_lite.node.stdr_lite import StdrLite

@@ -8,23 +8,17 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from ros_helpers import overrides, spin_until
-from simple_robot_control import foxglove_live
-from stdr_lite.node import parameters as simulator_parameters
+from simple_robot_control.early_parameters import early_problem
+from simple_robot_control.executables import parameter_table, PARAMETER_TABLES
+from simple_robot_control.parameters import declare_parameters
+from simple_robot_control.validation import ConfigError
 from stdr_lite.node.stdr_lite import StdrLite
-from stdr_lite.tools import move_robot
-from stdr_lite.viewer import stdr_viewer
-from waypoint_controller import waypoint_controller
 from waypoint_controller.waypoint_controller import WaypointController
-from waypoint_lab import course_monitor, record_run
 from waypoint_lab.course_monitor import CourseMonitor
 import yaml
 
 CONFIG = Path(__file__).resolve().parents[2] / 'config'
-NODES = {'stdr_lite': simulator_parameters.PARAMETERS,
-         'waypoint_controller': waypoint_controller.PARAMETERS,
-         'course_monitor': course_monitor.PARAMETERS, 'move_robot': move_robot.PARAMETERS,
-         'stdr_viewer': stdr_viewer.PARAMETERS, 'record_run': record_run.PARAMETERS,
-         'foxglove_live': foxglove_live.PARAMETERS}
+NODES = {name: parameter_table(name) for name in PARAMETER_TABLES}
 
 
 @pytest.mark.parametrize('node', NODES)
@@ -107,7 +101,7 @@ def test_a_refused_value_leaves_the_old_one(executor, tuning, parameters, reason
     (result,) = answer(executor, client.set_parameters(parameters))
     assert not result.successful and reason in result.reason
     name = parameters[0].name
-    defaults = {spec.name: spec.default for spec in waypoint_controller.PARAMETERS}
+    defaults = {spec.name: spec.default for spec in parameter_table('waypoint_controller')}
     assert controller.get_parameter(name).value == defaults[name]
 
 
@@ -142,3 +136,25 @@ def test_whole_numbers_are_taken_for_doubles_at_start(ros_context):
         assert simulator.simulation.pose('robot0') == (2.0, 3.0, 0.0)
     finally:
         simulator.destroy_node()
+
+
+@pytest.mark.parametrize('executable, arguments', [
+    ('stdr_lite', ['-p', 'rate_hz:=-1']), ('stdr_lite', ['-p', 'rate_hz:=abc']),
+    ('stdr_lite', ['-p', 'lockstep:=1']), ('stdr_lite', ['-p', 'robot_name:="5"']),
+    ('stdr_lite', ['-p', 'rat_hz:=5']), ('stdr_lite', ['-p', 'initial_pose:=[a, b]']),
+    ('stdr_lite', ['-p', 'resource_paths:=[1, 2]']), ('stdr_lite', ['-p', 'sensor_seed:=2.5']),
+    ('stdr_lite', ['-p', 'integrator:=rk4']), ('record_run', ['-p', 'topics:=/odom']),
+    ('waypoint_controller', ['-p', 'heading_kp:=0']), ('foxglove_live', ['-p', 'port:=70000']),
+])
+def test_an_early_refusal_is_the_one_the_node_makes(ros_context, executable, arguments):
+    """The executable refuses before loading its node in the words of the node's own check."""
+    specs = parameter_table(executable)
+    early = early_problem([executable, '--ros-args', *arguments], executable, specs)
+    assert early is not None
+    node = Node(executable, context=ros_context, cli_args=['--ros-args', *arguments])
+    try:
+        with pytest.raises(ConfigError) as refusal:
+            declare_parameters(node, specs)
+        assert str(refusal.value) == early
+    finally:
+        node.destroy_node()

@@ -13,8 +13,8 @@ from ros_helpers import (overrides, pose_stamped, ServiceCaller, spin_for, spin_
                          wait_for_subscribers)
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan, Range
-from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import yaw_from_quaternion
+from simple_robot_control.validation import ConfigError
 from simulation_interfaces.msg import Result, SimulationState
 from simulation_interfaces.srv import DeleteEntity, SetSimulationState, SpawnEntity
 from std_msgs.msg import Bool

@@ -12,7 +12,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import overrides, pose_stamped, ServiceCaller, spin_for, spin_until
 from sensor_msgs.msg import LaserScan
-from simple_robot_control.node_runtime import ConfigError
+from simple_robot_control.validation import ConfigError
 from simulation_interfaces.msg import EntityState
 from simulation_interfaces.srv import SetEntityState, SpawnEntity
 from std_msgs.msg import String

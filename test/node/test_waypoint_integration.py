@@ -7,9 +7,9 @@ import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import events_executor, overrides, spin_until
-from simple_robot_control.node_runtime import ConfigError
 from simple_robot_control.pose import yaw_from_quaternion
 from simple_robot_control.share import BUNDLED_COURSE, shared_file
+from simple_robot_control.validation import ConfigError
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import WaypointController

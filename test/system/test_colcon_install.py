@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from simple_robot_control.executables import MODULES
+from simple_robot_control.executables import MODULES, PARAMETER_TABLES
 
 # Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
 pytestmark = pytest.mark.xdist_group('colcon_install_tree')
@@ -39,9 +39,7 @@ def test_package_is_registered_in_the_ament_index(install_tree):
         'stdr_lite.launch.py', 'waypoints.launch.py'}
     assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
     assert {path.name for path in (prefix / 'share' / PACKAGE / 'config').iterdir()} == {
-        f'{name}.yaml' for name in ('stdr_lite', 'waypoint_controller', 'course_monitor',
-                                    'move_robot', 'stdr_viewer', 'record_run',
-                                    'foxglove_live')} | {
+        f'{name}.yaml' for name in PARAMETER_TABLES} | {
         'fastdds_quick_discovery.xml', 'foxglove_lab_layout.json'}
 
 

@@ -25,12 +25,16 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
         'simple_robot_control/occupancy_map.py', 'simple_robot_control/command_line.py',
-        'simple_robot_control/share.py', 'simple_robot_control/bag.py'] + [
+        'simple_robot_control/share.py', 'simple_robot_control/bag.py',
+        'simple_robot_control/parameter_specs.py', 'simple_robot_control/early_parameters.py',
+        'simple_robot_control/foxglove_live_parameters.py', 'stdr_lite/node/parameters.py',
+        'stdr_lite/viewer/parameters.py', 'stdr_lite/tools/parameters.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'schedule', 'stall', 'continuity', 'planner', 'reeds_shepp',
-        'clearance')] + [
+        'clearance', 'config', 'parameters')] + [
     f'waypoint_lab/{name}.py' for name in (
-        'course', 'waypoints', 'status', 'run', 'plot_run', 'run_picture')] + [
+        'course', 'rules', 'parameters', 'waypoints', 'status', 'run', 'plot_run',
+        'run_picture')] + [
     f'lab_grader/{name}.py' for name in (
         'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
@@ -101,9 +105,9 @@ def test_the_grader_runs_the_simulator_and_reads_only_its_core(path):
                 if name.startswith('stdr_lite') and not name.startswith('stdr_lite.core')]
 
 
-# The lab's numbers and names, each written in waypoint_lab/course.py alone: the goal set's d and
+# The lab's numbers and names, each written in waypoint_lab/rules.py alone: the goal set's d and
 # t (a tolerance given as a number, or math.radians(5.0)), the start pose, the status topic.
-CONTRACT = REPOSITORY / 'waypoint_lab' / 'course.py'
+CONTRACT = REPOSITORY / 'waypoint_lab' / 'rules.py'
 STATUS_TOPICS = ('robot_status', '/robot_status')
 START = (1.0, 2.0, 0.0)
 
@@ -135,7 +139,7 @@ def lab_constants(path):
     ids=str)
 def test_each_lab_constant_is_written_once(path):
     written = list(lab_constants(path))
-    assert not written, f'{path.relative_to(REPOSITORY)}: {written} (use waypoint_lab.course)'
+    assert not written, f'{path.relative_to(REPOSITORY)}: {written} (use waypoint_lab.rules)'
 
 
 def test_the_contract_holds_the_lab_constants():

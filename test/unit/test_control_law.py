@@ -6,7 +6,8 @@ import pytest
 from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller import control_law
-from waypoint_controller.control_law import ControllerConfig, CourseFollower, PoseController
+from waypoint_controller.config import ControllerConfig
+from waypoint_controller.control_law import CourseFollower, PoseController
 from waypoint_lab.course import in_goal_set
 from waypoint_lab.waypoints import Waypoint
 

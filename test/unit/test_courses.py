@@ -7,7 +7,8 @@ from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import BUNDLED_MAP, shared_file
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
-from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.config import ControllerConfig
+from waypoint_controller.control_law import CourseFollower
 from waypoint_lab.waypoints import load_waypoints
 
 COURSES = sorted((Path(__file__).resolve().parents[2] / 'waypoints').glob('*.txt'))

@@ -6,7 +6,8 @@ from hypothesis import given
 from hypothesis.strategies import floats
 import numpy as np
 from simple_robot_control.pose import wrap_angle
-from waypoint_lab.course import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, goal_errors, in_goal_set
+from waypoint_lab.course import goal_errors, in_goal_set
+from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE
 from waypoint_lab.waypoints import Waypoint
 
 

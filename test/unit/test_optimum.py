@@ -4,7 +4,7 @@ import math
 
 from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import pytest
-from waypoint_controller.control_law import ControllerConfig
+from waypoint_controller.config import ControllerConfig
 from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()

@@ -7,14 +7,15 @@ import pytest
 from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.clearance import Clearance
-from waypoint_controller.control_law import ControllerConfig, CourseFollower
+from waypoint_controller.config import ControllerConfig
+from waypoint_controller.control_law import CourseFollower, plan_limits
 from waypoint_controller.planner import (fastest_plan, goal_set_poses, Limits,
                                          plan_to_goal_set, ReedsSheppPlan, TurnPlan)
 from waypoint_lab.course import in_goal_set
 from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()
-LIMITS = CONFIG.limits
+LIMITS = plan_limits(CONFIG)
 
 
 def test_every_end_pose_tried_lies_inside_the_goal_set():

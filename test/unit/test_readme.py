@@ -5,26 +5,18 @@ import re
 import subprocess
 
 import pytest
-from simple_robot_control import foxglove_live
+from simple_robot_control.executables import parameter_table, PARAMETER_TABLES
 from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot
-from stdr_lite.node import stdr_lite
-from stdr_lite.tools import move_robot
-from stdr_lite.viewer import stdr_viewer
-from waypoint_controller import waypoint_controller
-from waypoint_lab import course_monitor, record_run
-from waypoint_lab.learning import policy_controller
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PAGES = [REPOSITORY / 'README.md', *sorted(REPOSITORY.glob('doc/*.md'))]
 DOCUMENTATION = '\n'.join(path.read_text() for path in PAGES)
 
 
-@pytest.mark.parametrize('module', [stdr_lite, move_robot, waypoint_controller, course_monitor,
-                                    stdr_viewer, record_run, foxglove_live,
-                                    policy_controller])
-def test_every_parameter_has_a_row_in_the_documentation(module):
-    missing = [spec.name for spec in module.PARAMETERS
+@pytest.mark.parametrize('executable', PARAMETER_TABLES)
+def test_every_parameter_has_a_row_in_the_documentation(executable):
+    missing = [spec.name for spec in parameter_table(executable)
                if f'| `{spec.name}` |' not in DOCUMENTATION]
     assert not missing, f'the documentation lacks rows for {missing}'
 

@@ -16,9 +16,9 @@ from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.world import PlacementError
-from waypoint_lab.course import START
 from waypoint_lab.learning import checks
 from waypoint_lab.learning.task import Courses, observe, sample_course, TaskSettings
+from waypoint_lab.rules import START
 
 
 def laser_robot(robot: str, rays: int):

@@ -15,12 +15,12 @@ import math
 
 import numpy as np
 from pettingzoo import ParallelEnv
-from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
-                                 MAX_LINEAR_SPEED, START)
 from waypoint_lab.learning import checks, MAX_EPISODE_STEPS
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
 from waypoint_lab.learning.waypoints_env import spaces_of
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                MAX_LINEAR_SPEED, START)
 
 # Robots are made in a row from the lab's start, this far apart (m), before the first reset.
 ROW_SPACING = 0.6

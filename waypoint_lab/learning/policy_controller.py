@@ -22,24 +22,21 @@ from rclpy.task import Future
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.node_runtime import build_parser, ConfigError, run
-from simple_robot_control.parameters import declare_parameters, ParameterSpec
+from simple_robot_control.node_runtime import build_parser, run
+from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import pose_from_message
+from simple_robot_control.validation import ConfigError
 from std_msgs.msg import String
 from stdr_lite.core.sensors import relative_angles
 from waypoint_lab import status
-from waypoint_lab.course import COURSE_TOPIC, STATUS_TOPIC
-from waypoint_lab.interface import course_message, COURSE_PARAMETERS, load_course, status_qos
+from waypoint_lab.interface import course_message, load_course, status_qos
 from waypoint_lab.learning.arena import laser_robot
 from waypoint_lab.learning.numpy_policy import NumpyPolicy, PolicyFileError
 from waypoint_lab.learning.task import Courses, observe, TaskSettings
+from waypoint_lab.parameters import POLICY_CONTROLLER_PARAMETERS
+from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.waypoints import Waypoint
 
-PARAMETERS = (
-    *(spec for spec in COURSE_PARAMETERS if spec.name in ('waypoint_file', 'robot_name')),
-    ParameterSpec('policy', '', 'the policy to drive with: an .npz file as scripts/'
-                  "train_policy.py writes it; '' is the bundled one, trained by make train"),
-)
 
 DESCRIPTION = ('policy_controller: drive a robot through a waypoint file with a learned policy '
                '(run with numpy alone), reporting on robot_status as the lab asks, for '
@@ -73,7 +70,7 @@ class PolicyController(GuardedNode):
         super().__init__('policy_controller', **kwargs)
         self.finished = Future()
         self._alive_since = time.monotonic()
-        params = declare_parameters(self, PARAMETERS)
+        params = declare_parameters(self, POLICY_CONTROLLER_PARAMETERS)
         robot_name = params['robot_name']
         if waypoints is None:
             _, course = load_course(self, waypoint_file, params['waypoint_file'])
@@ -142,7 +139,8 @@ class PolicyController(GuardedNode):
 
 
 def main(argv=None):
-    parser = build_parser('policy_controller', DESCRIPTION, PARAMETERS)
+    parser = build_parser('policy_controller', DESCRIPTION,
+                          POLICY_CONTROLLER_PARAMETERS)
     parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
                         help='waypoint file; the waypoint_file parameter is the alternative')
     sys.exit(run('policy_controller', parser,

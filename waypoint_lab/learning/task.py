@@ -18,8 +18,9 @@ from dataclasses import dataclass
 import math
 
 import numpy as np
-from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, goal_errors, in_goal_set,
-                                 MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED)
+from waypoint_lab.course import goal_errors, in_goal_set
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                MAX_LINEAR_SPEED)
 
 PROGRESS = 1.0
 TURNING = 0.5

@@ -17,12 +17,12 @@ import gymnasium as gym
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 import numpy as np
-from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
-                                 MAX_LINEAR_SPEED)
 from waypoint_lab.learning import checks, MAX_EPISODE_STEPS
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
 from waypoint_lab.learning.waypoints_env import spaces_of
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                MAX_LINEAR_SPEED)
 
 
 class WaypointsVectorEnv(VectorEnv):

@@ -14,12 +14,12 @@ import math
 import gymnasium as gym
 from gymnasium import spaces
 import numpy as np
-from waypoint_lab.course import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
-                                 MAX_LINEAR_SPEED)
 from waypoint_lab.learning import checks
 from waypoint_lab.learning.arena import Arena
 from waypoint_lab.learning.rendering import ArenaPicture
 from waypoint_lab.learning.task import FAR, GOAL_FEATURES, TaskSettings
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                MAX_LINEAR_SPEED)
 
 
 def spaces_of(task: TaskSettings) -> tuple[spaces.Box, spaces.Box]:

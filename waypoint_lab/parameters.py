@@ -1,0 +1,54 @@
+"""
+The parameter tables of the lab's nodes: plain data, light to load.
+
+The course's parameters are declared with the same meaning by every node that follows or
+watches a course (waypoint_controller, course_monitor, policy_controller); each executable's
+command line is judged against its table before the node's code loads (early_parameters.py).
+"""
+
+import dataclasses
+import math
+
+from simple_robot_control.parameter_specs import ParameterSpec
+from simple_robot_control.share import BUNDLED_COURSE
+from simple_robot_control.validation import Bounds
+from waypoint_lab.rules import ANGLE_TOLERANCE, COURSE_TOPIC, DISTANCE_TOLERANCE, STATUS_TOPIC
+
+COURSE_PARAMETERS = (
+    ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
+                  'empty: the command-line argument, or else the bundled '
+                  f'{BUNDLED_COURSE[-1]}'),
+    ParameterSpec('robot_name', 'robot0', 'the robot of the run: topics <name>/odom and '
+                  '<name>/cmd_vel', ros_name=True),
+    ParameterSpec('distance_tolerance', DISTANCE_TOLERANCE, 'goal set radius d [m]',
+                  Bounds(0.0, 10.0, low_open=True), tunable=True),
+    ParameterSpec('angle_tolerance_deg', math.degrees(ANGLE_TOLERANCE),
+                  'goal set heading tolerance t [degrees, as in the lab]',
+                  Bounds(0.0, 180.0, low_open=True), tunable=True),
+)
+
+# What makes a run of the lab: the controller's reports and course, every robot's odometry,
+# ground truth and sensors (named laser_N and sonar_N, as STDR's robot files name them), the
+# frames, the map and the time.
+RUN_TOPICS = (f'/{STATUS_TOPIC}', f'/{COURSE_TOPIC}', '/tf', '/tf_static', '/map', '/clock',
+              '*/odom', '*/ground_truth', '*/laser_*', '*/sonar_*')
+
+RECORD_RUN_PARAMETERS = (
+    ParameterSpec('bag', 'run.mcap', 'the bag to write, an .mcap file (replaced if it exists)'),
+    ParameterSpec('topics', RUN_TOPICS, 'the topics to record: full names or patterns (* and ?, '
+                  "as in shell globs: '*/odom' is every robot's odometry)"),
+)
+
+# The monitor only describes the run: the controller's tunable values are fixed here.
+COURSE_MONITOR_PARAMETERS = tuple(dataclasses.replace(spec, tunable=False)
+                                  for spec in COURSE_PARAMETERS) + (
+    ParameterSpec('bag', '', "record the run's topics (robot_status, the course, odometry, "
+                  'ground truth, TF, map, clock) into this rosbag2 bag in MCAP, for plot_run, '
+                  'ros2 bag and Foxglove; empty: no record'),
+)
+
+POLICY_CONTROLLER_PARAMETERS = (
+    *(spec for spec in COURSE_PARAMETERS if spec.name in ('waypoint_file', 'robot_name')),
+    ParameterSpec('policy', '', 'the policy to drive with: an .npz file as scripts/'
+                  "train_policy.py writes it; '' is the bundled one, trained by make train"),
+)
