@@ -1,5 +1,6 @@
 """Build and install simple_robot_control (ament_python; also installable with pip)."""
 
+import ast
 from glob import glob
 import os
 import sys
@@ -9,10 +10,22 @@ from setuptools import find_packages, setup
 
 PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
-# Each is started by simple_robot_control/executables.py, which names its module.
-EXECUTABLES = ('stdr_lite', 'stdr_viewer', 'move_robot', 'stdr_ctl', 'waypoint_controller',
-               'course_monitor', 'plot_run', 'record_run', 'foxglove_live', 'grade_lab',
-               'policy_controller')
+
+
+def executables():
+    """
+    Return the executables' names: the keys of MODULES in simple_robot_control/executables.py.
+
+    Read from the source as text: importing it here would find an installed copy first.
+    """
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), PACKAGE_NAME,
+                        'executables.py')
+    with open(path, encoding='utf-8') as source:
+        tree = ast.parse(source.read())
+    table = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                 and [target.id for target in node.targets] == ['MODULES'])
+    return sorted(ast.literal_eval(table))
+
 
 setup(
     name=PACKAGE_NAME,
@@ -50,6 +63,6 @@ setup(
     extras_require={'test': ['pytest', 'hypothesis']},
     entry_points={
         'console_scripts': [f'{name} = {PACKAGE_NAME}.executables:{name}'
-                            for name in EXECUTABLES],
+                            for name in executables()],
     },
 )

@@ -10,10 +10,10 @@ from collections import deque
 from dataclasses import dataclass, field
 import math
 
-import numpy as np
 from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from stdr_lite.core.odometry import Odometry, OdometryNoise
+from stdr_lite.core.state import WorldState
 from waypoint_controller.control_law import FollowerStep
 from waypoint_lab.waypoints import Waypoint
 
@@ -90,9 +90,8 @@ def drive(follower, start, loop: Loop, time_limit):
     computed, to be applied late_by control periods later; then one exact-arc step is taken.
     """
     pose, seen = start, start
-    odometry = Odometry(loop.drift, seed=0) if loop.drift.enabled else None
-    if odometry is not None:
-        odometry.add_robot(start)
+    odometry = (Odometry(WorldState.of_bodies([start]), loop.drift, seed=0)
+                if loop.drift.enabled else None)
     queue = deque([(0.0, 0.0)] * loop.late_by)
     command, period = (0.0, 0.0), loop.dt * loop.control_every
     path_length, reversals, last_sign, elapsed, step_index = 0.0, 0, 0.0, 0.0, 0
@@ -120,8 +119,9 @@ def drive(follower, start, loop: Loop, time_limit):
         if odometry is None:
             seen = pose
         else:
-            odometry.advance(np.array([pose]), np.array([linear]), np.zeros(1),
-                             np.array([angular]), loop.dt)
+            odometry.state.pose[0] = pose
+            odometry.state.applied[0] = (linear, 0.0, angular)
+            odometry.advance(loop.dt)
             seen = odometry.reading(0).pose
         elapsed += loop.dt
         step_index += 1

@@ -20,8 +20,9 @@ from simple_robot_control.early_parameters import early_problem
 from simple_robot_control.early_signals import release_signals
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT
 
-# Each executable's module, and its node's parameter table ('module:NAME') where it takes ROS
-# parameters.
+# The one list of the executables: each one's module (setup.py installs a console script for
+# each name, whose entry point is this module's attribute of that name), and its node's parameter
+# table ('module:NAME') where it takes ROS parameters. A literal, which setup.py reads as text.
 MODULES = {
     'stdr_lite': 'stdr_lite.node.stdr_lite',
     'stdr_viewer': 'stdr_lite.viewer.stdr_viewer',
@@ -104,14 +105,8 @@ def start(name):
     os._exit(code if isinstance(code, int) else (0 if code is None else 1))
 
 
-stdr_lite = partial(start, 'stdr_lite')
-stdr_viewer = partial(start, 'stdr_viewer')
-move_robot = partial(start, 'move_robot')
-stdr_ctl = partial(start, 'stdr_ctl')
-waypoint_controller = partial(start, 'waypoint_controller')
-course_monitor = partial(start, 'course_monitor')
-plot_run = partial(start, 'plot_run')
-record_run = partial(start, 'record_run')
-foxglove_live = partial(start, 'foxglove_live')
-grade_lab = partial(start, 'grade_lab')
-policy_controller = partial(start, 'policy_controller')
+def __getattr__(name: str):
+    """Return the entry point of the executable name, as a console script imports it."""
+    if name not in MODULES:
+        raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
+    return partial(start, name)

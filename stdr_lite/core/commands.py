@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 from stdr_lite.core.setting_values import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
+from stdr_lite.core.state import WorldState
 
 
 class CommandOutcome(enum.Enum):
@@ -25,9 +26,11 @@ def speed_limits(max_linear_speed: float, max_angular_speed: float,
             min(max_angular_speed or safety[1], safety[1]))
 
 
-class CommandBuffer:
+class HeldCommands:
     """
     The last valid (linear, lateral, angular) command of each robot, within the speed limits.
+
+    They are held in the state's command and commanded_at columns (state.py).
 
     linear and lateral are the robot-frame velocity (lateral is an omni robot's linear.y), whose
     length is clamped to max_linear_speed; angular to max_angular_speed. A limit of 0 is none
@@ -36,16 +39,15 @@ class CommandBuffer:
     the timeout (in simulated seconds) is stopped.
     """
 
-    def __init__(self, robot_count: int, max_linear_speed: float, max_angular_speed: float,
+    def __init__(self, state: WorldState, max_linear_speed: float, max_angular_speed: float,
                  timeout: float = 0.0,
                  safety: tuple[float, float] = (SAFETY_LINEAR_SPEED, SAFETY_ANGULAR_SPEED)):
+        self.state = state
         self.clamps = bool(max_linear_speed or max_angular_speed)
         self.safety = safety
         self.max_linear_speed, self.max_angular_speed = speed_limits(
             max_linear_speed, max_angular_speed, safety)
         self.timeout = float(timeout)
-        self._commands = np.zeros((robot_count, 3))
-        self._received_at = np.zeros(robot_count)
 
     def limited(self, linear: float, lateral: float,
                 angular: float) -> tuple[tuple[float, float, float], CommandOutcome]:
@@ -76,28 +78,18 @@ class CommandBuffer:
 
     def update_rows(self, indices: np.ndarray, commands: np.ndarray, now: float) -> None:
         """Hold each row of commands for the robot of the same row of indices from now on."""
-        self._commands[indices] = commands
-        self._received_at[indices] = now
+        self.state.command[indices] = commands
+        self.state.commanded_at[indices] = now
 
     def update(self, index: int, command: tuple[float, float, float], now: float) -> None:
         """Hold command (linear, lateral, angular) for robot index from now on."""
-        self._commands[index] = command
-        self._received_at[index] = now
-
-    def add_robot(self) -> None:
-        """Make room for one more robot, standing still."""
-        self._commands = np.vstack([self._commands, np.zeros(3)])
-        self._received_at = np.append(self._received_at, 0.0)
-
-    def remove_robot(self, index: int) -> None:
-        """Forget robot index; the robots after it move down one index."""
-        self._commands = np.delete(self._commands, index, axis=0)
-        self._received_at = np.delete(self._received_at, index)
+        self.state.command[index] = command
+        self.state.commanded_at[index] = now
 
     def current(self, now: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Commands in force at time now, as (linear, lateral, angular) arrays."""
-        commands = self._commands
+        commands = self.state.command
         if self.timeout > 0.0:
-            commands = np.where(((now - self._received_at) <= self.timeout)[:, None], commands,
-                                0.0)
+            commands = np.where(((now - self.state.commanded_at) <= self.timeout)[:, None],
+                                commands, 0.0)
         return commands[:, 0].copy(), commands[:, 1].copy(), commands[:, 2].copy()

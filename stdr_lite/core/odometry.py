@@ -15,9 +15,13 @@ With every coefficient zero the odometry is the true pose, exactly, whatever hap
 """
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from simple_robot_control.pose import wrap_angle
+
+if TYPE_CHECKING:  # the state's module reads this one's OdometryNoise through entities.py
+    from stdr_lite.core.state import WorldState
 
 
 @dataclass(frozen=True)
@@ -66,46 +70,32 @@ class Odometry:
 
     Each robot's odometry starts at its true pose (its odom frame coincides with the map at
     first) and, when noise is on, follows its own noisy measurements from then on: a teleport
-    moves the robot, not its odometry, as carrying a real robot would.
+    moves the robot, not its odometry, as carrying a real robot would. It is kept in the
+    state's odometry columns (state.py).
     """
 
-    def __init__(self, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
+    def __init__(self, state: 'WorldState', noise: OdometryNoise = OdometryNoise(), seed: int = 0):
+        self.state = state
         self.noise = noise
         self.reseed(seed)
-        self.poses = np.empty((0, 3))
-        self._covariances = np.empty((0, 3, 3))
-        self._velocities = np.empty((0, 3))
-        self._variances = np.empty((0, 3))
 
     def reseed(self, seed: int) -> None:
         """Start the noise over, so a run from here repeats a run from the start."""
         self._rng = np.random.default_rng(seed)
 
-    def add_robot(self, pose: tuple) -> None:
-        self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])
-        self._covariances = np.concatenate([self._covariances, np.zeros((1, 3, 3))])
-        self._velocities = np.vstack([self._velocities, np.zeros(3)])
-        self._variances = np.vstack([self._variances, np.zeros(3)])
-
-    def remove_robot(self, index: int) -> None:
-        self.poses = np.delete(self.poses, index, axis=0)
-        self._covariances = np.delete(self._covariances, index, axis=0)
-        self._velocities = np.delete(self._velocities, index, axis=0)
-        self._variances = np.delete(self._variances, index, axis=0)
-
-    def advance(self, true_poses: np.ndarray, linear: np.ndarray, lateral: np.ndarray,
-                angular: np.ndarray, dt: float) -> None:
+    def advance(self, dt: float) -> None:
         """
-        Measure one step in which the robots drove at the given velocities.
+        Measure the step just taken, in which each body moved at its applied velocity.
 
         Without noise the odometry simply takes the true poses after the step.
         """
+        state = self.state
         if not self.noise.enabled:
-            self.poses = np.array(true_poses, dtype=float)
-            self._velocities = np.column_stack([linear, lateral, angular])
+            state.odometry_pose = state.pose.copy()
+            state.odometry_velocity = state.applied.copy()
             return
-        distance, sideways = np.asarray(linear) * dt, np.asarray(lateral) * dt
-        turn = np.asarray(angular) * dt
+        distance, sideways = state.applied[:, 0] * dt, state.applied[:, 1] * dt
+        turn = state.applied[:, 2] * dt
         variance_distance = self.noise.distance ** 2 * np.abs(distance)
         variance_sideways = self.noise.distance ** 2 * np.abs(sideways)
         variance_turn = (self.noise.turn ** 2 * np.abs(turn)
@@ -118,12 +108,13 @@ class Odometry:
             sideways = sideways + np.sqrt(variance_sideways) * self._rng.standard_normal(count)
         variances = np.column_stack([variance_distance, variance_sideways, variance_turn])
         self._propagate(distance, sideways, turn, variances)
-        self._velocities = np.column_stack([distance, sideways, turn]) / dt
-        self._variances = variances / dt ** 2
+        state.odometry_velocity = np.column_stack([distance, sideways, turn]) / dt
+        state.odometry_variance = variances / dt ** 2
 
     def _propagate(self, distance, sideways, turn, variances):
         """Integrate the measured step along its mean heading and carry the covariance along."""
-        heading = self.poses[:, 2] + 0.5 * turn
+        state = self.state
+        heading = state.odometry_pose[:, 2] + 0.5 * turn
         cos_heading, sin_heading = np.cos(heading), np.sin(heading)
         step_x = distance * cos_heading - sideways * sin_heading
         step_y = distance * sin_heading + sideways * cos_heading
@@ -137,13 +128,15 @@ class Odometry:
         noise[:, 2, 2] = 1.0
         spread = np.zeros((count, 3, 3))
         spread[:, 0, 0], spread[:, 1, 1], spread[:, 2, 2] = variances.T
-        self._covariances = (motion @ self._covariances @ motion.transpose(0, 2, 1)
-                             + noise @ spread @ noise.transpose(0, 2, 1))
-        self.poses = self.poses + np.column_stack([step_x, step_y, turn])
-        self.poses[:, 2] = wrap_angle(self.poses[:, 2])
+        state.odometry_covariance = (motion @ state.odometry_covariance
+                                     @ motion.transpose(0, 2, 1)
+                                     + noise @ spread @ noise.transpose(0, 2, 1))
+        state.odometry_pose = state.odometry_pose + np.column_stack([step_x, step_y, turn])
+        state.odometry_pose[:, 2] = wrap_angle(state.odometry_pose[:, 2])
 
     def reading(self, index: int) -> OdometryReading:
-        x, y, theta = self.poses[index].tolist()
-        return OdometryReading((x, y, theta), tuple(self._velocities[index].tolist()),
-                               self._covariances[index].copy(),
-                               tuple(self._variances[index].tolist()))
+        state = self.state
+        x, y, theta = state.odometry_pose[index].tolist()
+        return OdometryReading((x, y, theta), tuple(state.odometry_velocity[index].tolist()),
+                               state.odometry_covariance[index].copy(),
+                               tuple(state.odometry_variance[index].tolist()))

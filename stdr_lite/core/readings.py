@@ -1,8 +1,9 @@
 """
 What a simulation reports without changing: its entities, poses, velocities, odometry, sensors.
 
-Simulation (simulation.py) makes every change; this base class reads what it keeps, all of it
-named in its docstring, so reading and changing are each one module's role. No ROS here.
+Simulation (simulation.py) makes every change; this base class reads the parts it keeps, each
+a public attribute named in its docstring, so reading and changing are each one module's role.
+No ROS here.
 """
 
 import math
@@ -10,19 +11,17 @@ import math
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import compose, invert
-from stdr_lite.core.entities import NANOSECONDS, RequestError, sensor_groups, SimulatedEntity
+from stdr_lite.core.entities import NANOSECONDS, RequestError, SimulatedEntity
 from stdr_lite.core.odometry import NO_SPREAD, OdometryReading
-from stdr_lite.core.sensors import read_sensors, ReadingPlan
 
 
 class SimulationReadings:
     """
-    The reading half of Simulation, over what it keeps (each set by simulation.py).
+    The reading half of Simulation, over the parts it keeps (each set by simulation.py).
 
-    roster (the entities by name and row), bodies (what the last step did to each), world
-    (poses, radii, shapes), step_count, dt_ns and settings; and, private to the two halves,
-    _terrain (the map's distance fields), _odometry with _odometry_schedule, _sensor_groups,
-    _laser_plans and _noise (the sensors' generator).
+    state (every entity's row: pose, footprint, what the last step did, odometry; state.py),
+    world (the map), odometer with odometry_schedule (odometry.py), sensing (the sensors'
+    schedules, noise and plans: sensing.py), step_count, dt_ns and settings.
     """
 
     @property
@@ -47,30 +46,30 @@ class SimulationReadings:
     @property
     def names(self) -> list[str]:
         """Return every entity's name, in the order they were added."""
-        return [entity.name for entity in self.roster.entities]
+        return [entity.name for entity in self.state.entities]
 
     @property
     def robot_names(self) -> list[str]:
-        return [entity.name for entity in self.roster.entities if entity.is_robot]
+        return [entity.name for entity in self.state.entities if entity.is_robot]
 
     @property
     def obstacle_names(self) -> list[str]:
-        return [entity.name for entity in self.roster.entities if not entity.is_robot]
+        return [entity.name for entity in self.state.entities if not entity.is_robot]
 
     @property
     def obstacles_moving(self) -> bool:
         """Whether any obstacle has a velocity, so its pose changes from step to step."""
-        return self.bodies.obstacles_moving
+        return self.state.obstacles_moving
 
     def __contains__(self, name: str) -> bool:
-        return name in self.roster
+        return name in self.state
 
     def default_name(self, prefix: str = 'robot') -> str:
         """Return <prefix><K> with the smallest K not taken."""
-        return self.roster.free_name(prefix)
+        return self.state.free_name(prefix)
 
     def entity(self, name: str) -> SimulatedEntity:
-        return self.roster.entities[self.roster.index(name)]
+        return self.state.entities[self.state.index(name)]
 
     def robot(self, name: str) -> SimulatedEntity:
         entity = self.entity(name)
@@ -80,22 +79,21 @@ class SimulationReadings:
 
     def pose(self, name: str) -> tuple[float, float, float]:
         """Return the entity's (x, y, theta) in the map frame."""
-        x, y, theta = self.world.poses[self.roster.index(name)].tolist()
+        x, y, theta = self.state.pose[self.state.index(name)].tolist()
         return x, y, theta
 
     def applied_velocity(self, name: str) -> tuple[float, float, float]:
         """Return the (linear, lateral, angular) velocity of the last step: zero if blocked."""
-        index = self.roster.index(name)
-        linear, lateral, angular = (float(values[index]) for values in self.bodies.applied)
+        linear, lateral, angular = self.state.applied[self.state.index(name)].tolist()
         return linear, lateral, angular
 
     def robot_poses(self) -> np.ndarray:
         """Return every robot's (x, y, theta), a row each in robot_names order (a copy)."""
-        return self.world.poses[self.roster.robot_rows].copy()
+        return self.state.pose[self.state.robot_rows]
 
     def robots_stalled(self) -> np.ndarray:
         """Return whether each robot's last step was refused, in robot_names order."""
-        return self.bodies.stalled[self.roster.robot_rows].copy()
+        return self.state.stalled[self.state.robot_rows]
 
     def read_lasers(self, names: list[str], spec) -> np.ndarray:
         """
@@ -104,13 +102,7 @@ class SimulationReadings:
         The same readings as read_sensors gives, as one array, for a loop reading the same
         lasers every step (a vector of learning environments).
         """
-        key = (tuple(names), spec)
-        plan = self._laser_plans.get(key)
-        if plan is None:
-            plan = self._laser_plans[key] = ReadingPlan(tuple((self.roster.index(name), spec)
-                                                              for name in names))
-        return plan.read_lasers(self._terrain.finder, self.world.poses, self.world.radii,
-                                self.world.shapes, self._noise, self.settings.bodies_meet)
+        return self.sensing.read_lasers(names, spec)
 
     def sensor_readings(self, name: str) -> dict:
         """Read every sensor of a robot now, whatever their schedule: {frame_id: reading}."""
@@ -120,22 +112,22 @@ class SimulationReadings:
 
     def stalled(self, name: str) -> bool:
         """Whether the entity's last step was refused: a wall or another body in its way."""
-        return bool(self.bodies.stalled[self.roster.index(name)])
+        return bool(self.state.stalled[self.state.index(name)])
 
     def velocity(self, name: str) -> tuple[float, float, float]:
         """Return the (x, y, angular) velocity of the last step in the map frame."""
-        index = self.roster.index(name)
+        index = self.state.index(name)
         linear, lateral, angular = self.applied_velocity(name)
-        heading = self.bodies.motion[index, 2]
+        heading = float(self.state.motion[index, 2])
         if math.isnan(heading):
-            heading = float(self.world.poses[index, 2])
+            heading = float(self.state.pose[index, 2])
         cos_heading, sin_heading = math.cos(heading), math.sin(heading)
         return (linear * cos_heading - lateral * sin_heading,
                 linear * sin_heading + lateral * cos_heading, angular)
 
     def odometry_due(self) -> bool:
         """Whether odometry is to be published at this step (every 1/odom_rate_hz of sim time)."""
-        return self._odometry_schedule.due(self.time_ns)
+        return self.odometry_schedule.due(self.time_ns)
 
     def odometry(self, name: str) -> OdometryReading:
         """
@@ -143,8 +135,8 @@ class SimulationReadings:
 
         Without noise these are the true pose and the applied velocity, with zero spread.
         """
-        if self._odometry.noise.enabled:
-            return self._odometry.reading(self.roster.index(name))
+        if self.odometer.noise.enabled:
+            return self.odometer.reading(self.state.index(name))
         return self.ground_truth(name)
 
     def ground_truth(self, name: str) -> OdometryReading:
@@ -159,29 +151,14 @@ class SimulationReadings:
         It is what makes map -> odom -> base_link the true pose, as a perfect localiser would
         publish it: the identity while the odometry is exact.
         """
-        if not self._odometry.noise.enabled:
+        if not self.odometer.noise.enabled:
             return 0.0, 0.0, 0.0
         return compose(self.pose(name), invert(self.odometry(name).pose))
 
     def due_sensors(self, wanted=None) -> list[tuple[str, object]]:
-        """
-        Return (robot name, sensor spec) for each sensor due at this step of a robot wanted.
-
-        wanted(name) says whether a robot's sensors are of interest (all are by default). Each
-        sensor is due once per period of sim time, read or not; sensors of one period and
-        phase share a schedule, so a step costs a check per group, not per sensor.
-        """
-        if self._sensor_groups is None:
-            self._sensor_groups = sensor_groups(self.roster.entities, self.time_ns - self.dt_ns)
-        due = []
-        for schedule, members in self._sensor_groups:
-            if schedule.due(self.time_ns):
-                due += [(name, spec) for name, specs in members
-                        if wanted is None or wanted(name) for spec in specs]
-        return due
+        """Return (robot name, sensor spec) for each sensor due at this step (Sensing.due)."""
+        return self.sensing.due(self.time_ns, self.dt_ns, wanted)
 
     def read_sensors(self, jobs: list[tuple[str, object]]) -> list:
         """Read sensors at the current poses: a laser's ranges or a sonar's range, per job."""
-        rows = [(self.roster.index(name), spec) for name, spec in jobs]
-        return read_sensors(self._terrain.finder, self.world.poses, self.world.radii,
-                            self.world.shapes, rows, self._noise, self.settings.bodies_meet)
+        return self.sensing.read(jobs)

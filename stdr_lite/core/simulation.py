@@ -1,16 +1,14 @@
 """
 The simulation: robots and obstacles by name in one world, stepped at a fixed rate. No ROS here.
 
-Every change is made here: entities added and removed (a row in each per-entity store at once:
-the World's poses and shapes, the held commands, the odometry, the step's Bodies, in the order
-of the Roster: roster.py), commands, steps, resets and a new map. Every request is checked
+Every change is made here: entities added and removed (a row of the one store of every
+entity's state, state.py), commands, steps, resets and a new map. Every request is checked
 whole before anything changes: a refusal raises and leaves the simulation as it was. What can
 be read of it without a change (poses, velocities, odometry, sensors) is its base class's, in
 readings.py. The stdr_lite node only turns messages into calls of this class and its results
 into messages; tests, benchmarks and learning loops drive it directly.
 """
 
-from contextlib import contextmanager
 from dataclasses import replace
 import math
 from typing import Iterable
@@ -19,7 +17,7 @@ import zlib
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
-from stdr_lite.core.commands import CommandBuffer, CommandOutcome
+from stdr_lite.core.commands import CommandOutcome, HeldCommands
 from stdr_lite.core.entities import (AwaitedCommands, Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
                                      SimulationSettings)
@@ -27,7 +25,8 @@ from stdr_lite.core.motion import motion_for, noisy_command
 from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.readings import SimulationReadings
 from stdr_lite.core.robot_description import RobotEntry
-from stdr_lite.core.roster import Bodies, Roster
+from stdr_lite.core.sensing import Sensing
+from stdr_lite.core.state import WorldState
 from stdr_lite.core.terrain import survey, Terrain
 from stdr_lite.core.world import FEW_BODIES, PlacementError, World
 
@@ -55,11 +54,10 @@ class Simulation(SimulationReadings):
         self.dt_ns = round(NANOSECONDS / settings.rate_hz)
         self._odometry_period_ns = (self.dt_ns if settings.odom_rate_hz <= 0.0
                                     else round(NANOSECONDS / settings.odom_rate_hz))
-        self.roster = Roster()
-        self._laser_plans = {}
+        self.sensing = Sensing(settings.bodies_meet, settings.sensor_seed)
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
-        self._build(self.survey(occupancy_map))
+        self._rebuild(self.survey(occupancy_map), [])
         self._restart_time()
         for entry in robots:
             try:
@@ -76,28 +74,24 @@ class Simulation(SimulationReadings):
         """
         return survey(occupancy_map, self._largest)
 
-    def _build(self, terrain):
-        self._terrain = terrain
-        self.world = World(terrain.occupancy_map, self._largest, self.settings.integrator,
-                           terrain.checker, self.settings.bodies_meet)
-        self._commands = CommandBuffer(0, self.settings.max_linear_speed,
-                                       self.settings.max_angular_speed,
-                                       self.settings.cmd_vel_timeout, self.settings.safety)
-        self.bodies = Bodies()
-        self._odometry = Odometry(self.settings.odometry_noise, self.settings.odom_seed)
+    def _use(self, world):
+        """Run on world (its terrain's, its state's entities): commands and odometry anew."""
+        self.world, self.state = world, world.state
+        self.commands = HeldCommands(self.state, self.settings.max_linear_speed,
+                                     self.settings.max_angular_speed,
+                                     self.settings.cmd_vel_timeout, self.settings.safety)
+        self.odometer = Odometry(self.state, self.settings.odometry_noise,
+                                 self.settings.odom_seed)
+        self.sensing.attach(self.state, self.terrain.finder)
 
     def _restart_time(self):
         self.step_count = 0
-        self._noise = np.random.default_rng(self.settings.sensor_seed)
-        self._odometry.reseed(self.settings.odom_seed)
-        for entity in self.roster.entities:
+        self.odometer.reseed(self.settings.odom_seed)
+        for entity in self.state.entities:
             entity.motion_noise = self._motion_noise(entity.name, entity.description)
-        self._odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
+        self.odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
         self.awaited_commands = AwaitedCommands()
-        for entity in self.roster.entities:
-            for sensor in entity.sensors:
-                sensor.restart(0)
-        self._sensor_groups = None
+        self.sensing.restart(self.settings.sensor_seed, 0)
 
     def add_robot(self, entry: RobotEntry, spawned: bool = False, namespace: str = '') -> None:
         """
@@ -111,7 +105,7 @@ class Simulation(SimulationReadings):
         namespace = namespace.strip('/') or entry.name
         if not all(is_ros_name(token) for token in namespace.split('/')):
             raise NamespaceError(f'namespace {shorten(repr(namespace))} is not a ROS namespace')
-        taken = [entity.name for entity in self.roster.entities if entity.namespace == namespace]
+        taken = [entity.name for entity in self.state.entities if entity.namespace == namespace]
         if taken:
             raise NamespaceError(f'namespace {namespace} is taken by {taken[0]}')
         for spec in entry.description.lasers + entry.description.sonars:
@@ -151,29 +145,15 @@ class Simulation(SimulationReadings):
         problem = ros_name_problem(name, 'a name')
         if problem is not None:
             raise RequestError(problem)
-        if name in self.roster:
+        if name in self.state:
             raise RequestError(f'an entity named {shorten(name)} exists already')
 
     def _append(self, entity):
-        with self._naming_overlaps():
-            self.world.add_robot(entity.start_pose, entity.radius, entity.shape)
-        self._commands.add_robot()
-        self._odometry.add_robot(entity.start_pose)
-        self.bodies.add_row()
-        self.roster.append(entity)
-        self._sensor_groups = None
-        self._laser_plans = {}
+        self.world.add_body(entity.start_pose, entity.radius, entity.shape, entity)
 
     def remove(self, name: str) -> None:
-        """Take an entity out; the entities after it move down one index."""
-        index = self.roster.index(name)
-        self.world.remove_robot(index)
-        self._commands.remove_robot(index)
-        self._odometry.remove_robot(index)
-        self.bodies.remove_row(index)
-        self.roster.remove(index)
-        self._sensor_groups = None
-        self._laser_plans = {}
+        """Take an entity out; the entities after it move down one row."""
+        self.world.remove_body(self.state.index(name))
         self.awaited_commands.answer(name)
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
@@ -182,9 +162,7 @@ class Simulation(SimulationReadings):
 
         Drifting odometry does not notice (the robot was carried): map -> odom takes the jump.
         """
-        index = self.roster.index(name)
-        with self._naming_overlaps():
-            self.world.move_robot(index, pose)
+        self.world.move_body(self.state.index(name), pose)
 
     def command(self, name: str, linear: float, angular: float,
                 lateral: float = 0.0) -> CommandOutcome:
@@ -195,10 +173,10 @@ class Simulation(SimulationReadings):
         once per command, as STDR does); lateral (linear.y) moves an omni robot only.
         """
         robot = self.robot(name)
-        index = self.roster.index(name)
+        index = self.state.index(name)
         if not all(map(math.isfinite, (linear, angular, lateral))):
             return CommandOutcome.IGNORED
-        command, outcome = self._commands.limited(linear, lateral, angular)
+        command, outcome = self.commands.limited(linear, lateral, angular)
         if robot.motion_noise is not None:
             command = noisy_command(command, robot.description.kinematic.parameters,
                                     robot.motion_noise)
@@ -206,7 +184,7 @@ class Simulation(SimulationReadings):
             if lateral != 0.0 and outcome is CommandOutcome.APPLIED:
                 outcome = CommandOutcome.NOT_OMNI
             command = (command[0], 0.0, command[2])
-        self._commands.update(index, command, self.sim_time)
+        self.commands.update(index, command, self.sim_time)
         return outcome
 
     def command_robots(self, linear: np.ndarray, angular: np.ndarray,
@@ -217,22 +195,22 @@ class Simulation(SimulationReadings):
         Each command is what command() would make of it: its limits, its robot's motion noise,
         a unicycle's lateral speed dropped; a command that is not finite is ignored.
         """
-        rows = self.roster.robot_rows
+        rows = self.state.robot_rows
         lateral = np.zeros(len(rows)) if lateral is None else lateral
         if len(rows) <= FEW_BODIES:
             for row, values in zip(rows.tolist(), zip(linear.tolist(), angular.tolist(),
                                                       lateral.tolist())):
-                self.command(self.roster.entities[row].name, *values)
+                self.command(self.state.entities[row].name, *values)
             return
         commands = np.column_stack([linear, lateral, angular]).astype(float)
-        robots = [self.roster.entities[row] for row in rows]
+        robots = [self.state.entities[row] for row in rows]
         noisy = np.array([robot.motion_noise is not None for robot in robots], dtype=bool)
         plain = np.isfinite(commands).all(axis=1) & ~noisy
-        limited = self._commands.limited_rows(commands[plain])
+        limited = self.commands.limited_rows(commands[plain])
         omni = np.array([robot.description.kinematic.model == 'omni' for robot in robots],
                         dtype=bool)
         limited[~omni[plain], 1] = 0.0
-        self._commands.update_rows(rows[plain], limited, self.sim_time)
+        self.commands.update_rows(rows[plain], limited, self.sim_time)
         for robot, values in zip(np.flatnonzero(noisy), commands[noisy].tolist()):
             self.command(robots[robot].name, *values)
 
@@ -247,20 +225,20 @@ class Simulation(SimulationReadings):
 
     def set_state(self, name: str, pose: tuple, velocity: tuple) -> None:
         """Teleport an entity and set its velocity (as set_velocity), both or neither."""
-        entity, index = self.entity(name), self.roster.index(name)
+        entity, index = self.entity(name), self.state.index(name)
         omni = entity.is_robot and entity.description.kinematic.model == 'omni'
         motion = motion_for(entity.category, pose[2], *velocity, self.settings, omni)
         self.teleport(name, pose)
         if entity.is_robot:
             self.command(name, motion.linear, motion.angular, motion.lateral)
         else:
-            self.bodies.motion[index] = (motion.linear, motion.angular,
-                                         np.nan if motion.heading is None else motion.heading)
+            self.state.motion[index] = (motion.linear, motion.angular,
+                                        np.nan if motion.heading is None else motion.heading)
 
     def step(self) -> None:
         """Advance every entity by dt: robots under their held commands, obstacles as set."""
-        linear, lateral, angular = self._commands.current(self.sim_time)
-        motion = self.bodies.motion
+        linear, lateral, angular = self.commands.current(self.sim_time)
+        motion = self.state.motion
         sliding = ~np.isnan(motion[:, 2])
         headings = None
         if sliding.any():
@@ -268,9 +246,9 @@ class Simulation(SimulationReadings):
             angular = np.where(sliding, motion[:, 1], angular)
             headings = motion[:, 2]
         moved = self.world.step(linear, angular, self.dt, headings, lateral)
-        self.bodies.stepped(moved, (linear, lateral, angular))
-        if self._odometry.noise.enabled:
-            self._odometry.advance(self.world.poses, *self.bodies.applied, self.dt)
+        self.state.stepped(moved, np.column_stack([linear, lateral, angular]))
+        if self.odometer.noise.enabled:
+            self.odometer.advance(self.dt)
         self.step_count += 1
 
     def reset(self, time: bool = True, state: bool = True, spawned: bool = True,
@@ -287,12 +265,12 @@ class Simulation(SimulationReadings):
         if seed is not None:
             self.settings = replace(self.settings, sensor_seed=seed, odom_seed=seed,
                                     motion_seed=seed)
-        keep = [entity for entity in self.roster.entities
+        keep = [entity for entity in self.state.entities
                 if not (spawned and entity.spawned)]
         if state:
-            self._rebuild(self._terrain, keep)
+            self._rebuild(self.terrain, keep)
         else:
-            for entity in [entity for entity in self.roster.entities if entity not in keep]:
+            for entity in [entity for entity in self.state.entities if entity not in keep]:
                 self.remove(entity.name)
         if time:
             self._restart_time()
@@ -305,41 +283,23 @@ class Simulation(SimulationReadings):
         PlacementError if one of them does not fit there; nothing changes then.
         """
         terrain = world if isinstance(world, Terrain) else self.survey(world)
-        self._rebuild(terrain, [entity for entity in self.roster.entities
+        self._rebuild(terrain, [entity for entity in self.state.entities
                                 if not entity.spawned])
         self._restart_time()
 
     def _rebuild(self, terrain, entities):
         """Put entities at their start poses in a world of this terrain, all or none of them."""
-        trial = World(terrain.occupancy_map, self._largest, self.settings.integrator,
-                      terrain.checker, self.settings.bodies_meet)
+        world = World(terrain.occupancy_map, self._largest, self.settings.integrator,
+                      terrain.checker, self.settings.bodies_meet, WorldState())
         for entity in entities:
             try:
-                trial.add_robot(entity.start_pose, entity.radius, entity.shape)
+                world.add_body(entity.start_pose, entity.radius, entity.shape, entity)
             except PlacementError as error:
-                reason = str(error)
-                if error.overlapped is not None:
-                    reason = reason.replace(f'robot {error.overlapped}',
-                                            entities[error.overlapped].name)
                 raise PlacementError(f'{entity.name} cannot stand at its start pose: '
-                                     f'{reason}') from None
-        self._build(terrain)
-        self.roster = Roster()
-        for entity in entities:
-            self._append(entity)
+                                     f'{error}') from None
+        self.terrain = terrain
+        self._use(world)
 
     def await_commands(self) -> None:
         """Lockstep: from now on, wait for a command from every robot before stepping."""
         self.awaited_commands.expect(self.robot_names)
-
-    @contextmanager
-    def _naming_overlaps(self):
-        """Name the entity in the way, where the World can only number it."""
-        try:
-            yield
-        except PlacementError as error:
-            if error.overlapped is None:
-                raise
-            other = self.roster.entities[error.overlapped].name
-            raise PlacementError(str(error).replace(f'robot {error.overlapped}', other),
-                                 overlapped=error.overlapped) from None

@@ -1,4 +1,4 @@
-"""The simulated world: bodies' poses in one map, stepped together with numpy."""
+"""The simulated world: bodies moving in one map and meeting, stepped together with numpy."""
 
 import math
 
@@ -8,7 +8,9 @@ from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import wrap_angle
 from stdr_lite.core.collision import FootprintChecker
 from stdr_lite.core.contacts import moving_into_others, overlapped
+from stdr_lite.core.entities import SimulatedEntity
 from stdr_lite.core.kinematics import INTEGRATORS, INTEGRATORS_ONE
+from stdr_lite.core.state import WorldState
 
 # Sampling the path so that no point of a footprint moves more than a quarter cell between
 # samples bounds the depth by which it could clip a corner between two samples to
@@ -24,14 +26,10 @@ REMEMBERED_STEPS = 1024
 class PlacementError(ValueError):
     """A pose where a body cannot stand: off the map, touching a wall or another body."""
 
-    def __init__(self, message, overlapped=None):
-        super().__init__(message)
-        self.overlapped = overlapped
-
 
 class World:
     """
-    Poses (x, y, theta) and footprints of bodies, all stepped at once.
+    Bodies of a WorldState moved in a map: placed, teleported, stepped all at once.
 
     A footprint is a circle of its radius, or a polygon (shape: its corners in the body's
     frame, radius then its farthest corner's distance). A step whose footprint would touch an
@@ -41,9 +39,10 @@ class World:
     """
 
     def __init__(self, occupancy_map: OccupancyMap, max_radius: float, integrator: str = 'euler',
-                 checker: FootprintChecker | None = None, bodies_meet: bool = True):
+                 checker: FootprintChecker | None = None, bodies_meet: bool = True,
+                 state: WorldState | None = None):
         """
-        Make an empty world; checker, if given, is the map's, made for max_radius.
+        Make a world of the bodies of state (none by default); checker is the map's, if given.
 
         Bodies that do not meet pass through each other and may stand on each other: each
         meets the walls only, as if alone (independent episodes of learning, side by side).
@@ -58,14 +57,24 @@ class World:
         self._advance_one = INTEGRATORS_ONE[integrator]
         self._blocked_steps = {}
         self._sample_spacing = occupancy_map.resolution / SAMPLES_PER_CELL
-        self.poses = np.empty((0, 3))
-        self.radii = np.empty(0)
-        self.shapes = []
-        self._polygonal = np.zeros(0, dtype=bool)
+        self.state = WorldState() if state is None else state
 
     @property
-    def robot_count(self) -> int:
-        return len(self.radii)
+    def poses(self) -> np.ndarray:
+        """Return the bodies' (x, y, theta), a row each."""
+        return self.state.pose
+
+    @property
+    def radii(self) -> np.ndarray:
+        return self.state.radius
+
+    @property
+    def shapes(self) -> list:
+        return self.state.shapes
+
+    @property
+    def body_count(self) -> int:
+        return len(self.state)
 
     def check_placement(self, pose: tuple, radius: float, ignore: int | None = None,
                         shape: tuple | None = None) -> None:
@@ -94,36 +103,31 @@ class World:
         other = overlapped((x, y, theta), radius, shape, self.poses, self.radii, self.shapes,
                            ignore) if self.bodies_meet else None
         if other is not None:
-            raise PlacementError(f'{footprint} at ({x:g}, {y:g}) overlaps robot {other}',
-                                 overlapped=other)
+            raise PlacementError(f'{footprint} at ({x:g}, {y:g}) overlaps '
+                                 f'{self.state.name_of(other)}')
 
-    def add_robot(self, pose: tuple, radius: float, shape: tuple | None = None) -> int:
+    def add_body(self, pose: tuple, radius: float, shape: tuple | None = None,
+                 entity: SimulatedEntity | None = None) -> int:
         """
-        Place a body and return its index.
+        Place a body (of entity, or a bare one) and return its row of the state.
 
         shape is a polygon's corners, None for a circle; a polygon's radius is that of the
-        circle round it, which every broad check relies on.
+        circle round it, which every broad check relies on. PlacementError if it cannot stand
+        at pose; nothing changes then.
         """
         if shape is not None and radius < float(np.max(np.hypot(*np.asarray(shape).T))):
             raise ValueError(f'radius {radius:g} m does not reach the farthest corner')
         self.check_placement(pose, radius, shape=shape)
-        self.poses = np.vstack([self.poses, np.asarray(pose, dtype=float)])
-        self.radii = np.append(self.radii, float(radius))
-        self.shapes.append(shape)
-        self._polygonal = np.append(self._polygonal, shape is not None)
-        return self.robot_count - 1
+        return self.state.append(pose, float(radius), shape, entity)
 
-    def move_robot(self, index: int, pose: tuple) -> None:
+    def move_body(self, index: int, pose: tuple) -> None:
         """Teleport body index to pose, or raise PlacementError and leave it where it is."""
         self.check_placement(pose, self.radii[index], ignore=index, shape=self.shapes[index])
-        self.poses[index] = np.asarray(pose, dtype=float)
+        self.state.pose[index] = np.asarray(pose, dtype=float)
 
-    def remove_robot(self, index: int) -> None:
-        """Take body index out of the world; the bodies after it move down one index."""
-        self.poses = np.delete(self.poses, index, axis=0)
-        self.radii = np.delete(self.radii, index)
-        del self.shapes[index]
-        self._polygonal = np.delete(self._polygonal, index)
+    def remove_body(self, index: int) -> None:
+        """Take body index out of the world; the bodies after it move down one row."""
+        self.state.remove(index)
 
     def step(self, linear: ArrayLike, angular: ArrayLike, dt: float,
              travel_headings: ArrayLike | None = None,
@@ -140,22 +144,22 @@ class World:
         angular = np.asarray(angular, dtype=float)
         theta = self.poses[:, 2]
         heading, speed, turn = _translations(theta, linear, angular, travel_headings, lateral)
-        if self.robot_count <= FEW_BODIES:
+        if self.body_count <= FEW_BODIES:
             return self._step_few(heading, speed, turn, angular, dt)
         x, y = self.poses[:, 0], self.poses[:, 1]
-        moves = ~self._blocked(np.arange(self.robot_count), dt, x, y, heading, speed, turn,
+        moves = ~self._blocked(np.arange(self.body_count), dt, x, y, heading, speed, turn,
                                theta, angular)
         new_x, new_y, _ = self._advance(x, y, heading, speed, turn, dt)
         new_poses = np.column_stack([new_x, new_y, wrap_angle(theta + angular * dt)])
         if self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
                                          moves & self._changes_footprint(speed, angular))
-        self.poses = np.where(moves[:, None], new_poses, self.poses)
+        self.state.pose = np.where(moves[:, None], new_poses, self.poses)
         return moves
 
     def _changes_footprint(self, speed, angular):
         """Whether each body's step moves its footprint: a circle's turn does not."""
-        return (speed != 0.0) | (self._polygonal & (angular != 0.0))
+        return (speed != 0.0) | (self.state.polygonal & (angular != 0.0))
 
     def _step_few(self, heading, speed, turn, angular, dt):
         """Take the same step as the vectorised code, one body at a time."""
@@ -171,10 +175,10 @@ class World:
                                                               omega), dt))
         moves = np.array(moves, dtype=bool)
         new_poses = np.array(ends, dtype=float).reshape(-1, 3)
-        if self.robot_count > 1 and self.bodies_meet:
+        if self.body_count > 1 and self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
                                          moves & self._changes_footprint(speed, angular))
-        self.poses = np.where(moves[:, None], new_poses, self.poses)
+        self.state.pose = np.where(moves[:, None], new_poses, self.poses)
         return moves
 
     def _blocked(self, bodies, dt, x, y, heading, speed, turn, theta, angular):
@@ -187,7 +191,7 @@ class World:
         speed, and a body is dropped from later batches once it is blocked. Polygons, each of
         its own shape, go one at a time.
         """
-        radii, polygonal = self.radii[bodies], self._polygonal[bodies]
+        radii, polygonal = self.radii[bodies], self.state.polygonal[bodies]
         blocked = np.zeros(len(bodies), dtype=bool)
         step_length = np.abs(speed) * dt
         moving = (speed != 0.0) | (polygonal & (angular != 0.0))

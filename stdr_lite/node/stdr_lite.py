@@ -1,6 +1,5 @@
 """The stdr_lite node: the simulation core on STDR's topics and the standard simulation API."""
 
-import gc
 import sys
 
 from nav_msgs.msg import OccupancyGrid
@@ -27,6 +26,7 @@ from stdr_lite.node.messages import map_message, set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
 from stdr_lite.node.parameters import (frames, ON_DEMAND_ABOVE, PARAMETERS, search_path,
                                        STDR_STATIC_FRAME)
+from stdr_lite.node.process_settings import settle_for_large_requests
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.served import Served
@@ -46,8 +46,6 @@ LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 # nav_msgs/GetMap under the names code waits for: nav2_map_server's, and ROS 1's map_server's.
 MAP_SERVICES = ('map_server/map', 'static_map')
-# How long a thread may hold the interpreter while another waits for it (Python's: 5 ms).
-SWITCH_INTERVAL = 0.0005
 
 
 class StdrLite(GuardedNode):
@@ -325,20 +323,9 @@ class StdrLite(GuardedNode):
 
 
 def built_simulator(options) -> StdrLite:
-    """
-    Build the node, then tune the interpreter for a large request taken beside the loop.
-
-    While the requests' thread converts one (requests.py), the simulator's thread waits for the
-    interpreter at each call that lets it go: SWITCH_INTERVAL rather than Python's 5 ms. A
-    request of a hundred thousand objects also sets off the garbage collector's full passes,
-    each walking every object of the process with the interpreter held (35 to 47 ms here):
-    frozen once built, the libraries and the world are left out (about 10 ms). Process-wide,
-    so here, not in the node: frozen objects are never freed, and tests build many nodes.
-    """
+    """Build the node, then set the process up for it (process_settings.py says why)."""
     node = StdrLite()
-    sys.setswitchinterval(SWITCH_INTERVAL)
-    gc.collect()
-    gc.freeze()
+    settle_for_large_requests()
     return node
 
 

@@ -90,7 +90,7 @@ def one_cell_wall_world(integrator, wall_col=100):
 @pytest.mark.parametrize('start_x', [3.0, 3.13, 3.37, 3.49])
 def test_no_tunnelling_through_a_one_cell_wall_at_5_mps_and_10_hz(integrator, start_x):
     world = one_cell_wall_world(integrator)
-    world.add_robot((start_x, 1.5, 0.0), 0.2)
+    world.add_body((start_x, 1.5, 0.0), 0.2)
     for _ in range(40):
         world.step([5.0], [0.0], 0.1)
     wall_face = 100 * RESOLUTION
@@ -100,7 +100,7 @@ def test_no_tunnelling_through_a_one_cell_wall_at_5_mps_and_10_hz(integrator, st
 
 def test_blocked_step_is_rejected_whole():
     world = one_cell_wall_world('euler')
-    world.add_robot((4.79, 1.5, 0.0), 0.2)
+    world.add_body((4.79, 1.5, 0.0), 0.2)
     before = world.poses.copy()
     moved = world.step([1.0], [0.5], 0.02)
     assert np.array_equal(world.poses, before)
@@ -109,7 +109,7 @@ def test_blocked_step_is_rejected_whole():
 
 def test_robot_against_a_wall_may_rotate_and_drive_away():
     world = one_cell_wall_world('euler')
-    world.add_robot((4.79, 1.5, 0.0), 0.2)
+    world.add_body((4.79, 1.5, 0.0), 0.2)
     world.step([1.0], [0.0], 0.02)
     assert world.poses[0, 0] == 4.79
     assert world.step([0.0], [1.0], 0.1).tolist() == [True]
@@ -120,8 +120,8 @@ def test_robot_against_a_wall_may_rotate_and_drive_away():
 
 def test_each_robot_is_judged_on_its_own_step():
     world = one_cell_wall_world('arc')
-    world.add_robot((4.79, 1.5, 0.0), 0.2)
-    world.add_robot((2.0, 1.5, 0.0), 0.2)
+    world.add_body((4.79, 1.5, 0.0), 0.2)
+    world.add_body((2.0, 1.5, 0.0), 0.2)
     assert world.step([1.0, 1.0], [0.0, 0.0], 0.1).tolist() == [False, True]
     assert world.poses[:, 0] == pytest.approx([4.79, 2.1])
 
@@ -129,7 +129,7 @@ def test_each_robot_is_judged_on_its_own_step():
 def test_the_map_edge_is_a_wall(tmp_path):
     open_field = np.full((40, 40), 255)
     world = World(load_map(write_map(tmp_path, open_field)), max_radius=0.2)
-    world.add_robot((1.0, 1.0, math.pi), 0.2)
+    world.add_body((1.0, 1.0, math.pi), 0.2)
     for _ in range(100):
         world.step([1.0], [0.0], 0.05)
     assert world.poses[0, 0] == pytest.approx(0.2, abs=0.05 + 1e-9)
@@ -142,8 +142,8 @@ def test_the_map_edge_is_a_wall(tmp_path):
 def test_impossible_placements_are_refused(pose, problem):
     world = World(grid_map(walled_room(40, 40) == 0), max_radius=0.2)
     with pytest.raises(PlacementError, match=problem):
-        world.add_robot(pose, 0.2)
-    assert world.robot_count == 0
+        world.add_body(pose, 0.2)
+    assert world.body_count == 0
 
 
 @pytest.mark.parametrize('integrator', ['euler', 'arc'])
@@ -161,8 +161,8 @@ def test_a_few_bodies_step_exactly_as_many_do(integrator, monkeypatch):
     square = ((-0.15, -0.15), (0.15, -0.15), (0.15, 0.15), (-0.15, 0.15))
     for world in worlds:
         for pose in [(0.5, 0.5, 0.0), (0.9, 0.5, 3.0), (2.4, 1.2, 1.0), (1.0, 2.0, -1.0)]:
-            world.add_robot(pose, 0.2)
-        world.add_robot((2.2, 0.5, 0.3), math.hypot(0.15, 0.15), square)
+            world.add_body(pose, 0.2)
+        world.add_body((2.2, 0.5, 0.3), math.hypot(0.15, 0.15), square)
     headings = [np.nan, np.nan, 0.7, np.nan, np.nan]
     blocked = 0
     for _ in range(300):

@@ -11,6 +11,7 @@ from simple_robot_control.pose import compose
 from stdr_lite.core.odometry import Odometry, OdometryNoise
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
+from stdr_lite.core.state import WorldState
 
 NOISE = OdometryNoise(distance=0.05, turn=0.05, heading_per_distance=0.02)
 
@@ -82,15 +83,14 @@ def test_covariance_grows_while_driving_and_holds_while_standing(room):
 def test_the_spread_is_what_the_covariance_says_at_any_step_rate(dt, lateral):
     """Two thousand robots drive 2 m along a gentle curve; compare their scatter with P."""
     robots = 2000
-    odometry = Odometry(NOISE, seed=7)
-    for _ in range(robots):
-        odometry.add_robot((0.0, 0.0, 0.0))
+    state = WorldState.of_bodies([(0.0, 0.0, 0.0)] * robots)
+    odometry = Odometry(state, NOISE, seed=7)
+    state.applied[:] = (0.5, lateral, 0.2)
     steps = round(4.0 / dt)
     for _ in range(steps):
-        odometry.advance(None, np.full(robots, 0.5), np.full(robots, lateral),
-                         np.full(robots, 0.2), dt)
+        odometry.advance(dt)
     predicted = odometry.reading(0).pose_covariance
-    observed = np.cov(odometry.poses.T)
+    observed = np.cov(state.odometry_pose.T)
     assert np.sqrt(np.diag(observed)) == pytest.approx(np.sqrt(np.diag(predicted)), rel=0.1)
     heading_std = math.sqrt(NOISE.turn ** 2 * 0.8
                             + NOISE.heading_per_distance ** 2 * (2.0 + 4.0 * lateral))

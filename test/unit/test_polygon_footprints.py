@@ -38,7 +38,7 @@ def room_with_a_gap():
 def drive_through(radius, shape, heading):
     """Drive a body from x 2 m towards +x for 3 s at 1 m/s; return where it ends."""
     world = World(room_with_a_gap(), max_radius=0.3)
-    world.add_robot((2.0, GAP_MIDDLE, heading), radius, shape)
+    world.add_body((2.0, GAP_MIDDLE, heading), radius, shape)
     for _ in range(60):
         world.step([1.0], [0.0], 0.05, travel_headings=[0.0])
     return world.poses[0]
@@ -60,8 +60,8 @@ def test_a_square_against_a_wall_cannot_turn_into_it_but_a_disc_can():
     occupied = np.zeros((60, 120), dtype=bool)
     occupied[:, 60] = True
     world = World(grid_map(occupied), max_radius=0.3)
-    world.add_robot((2.75, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
-    world.add_robot((2.75, 0.5, 0.0), 0.2)
+    world.add_body((2.75, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
+    world.add_body((2.75, 0.5, 0.0), 0.2)
     moved = world.step([0.0, 0.0], [1.0, 1.0], 0.5)
     assert moved.tolist() == [False, True]
     assert world.poses[0].tolist() == [2.75, 1.5, 0.0]
@@ -75,7 +75,7 @@ def test_no_polygon_tunnels_through_a_one_cell_wall(integrator, heading):
     occupied = np.zeros((60, 200), dtype=bool)
     occupied[:, 100] = True
     world = World(grid_map(occupied), max_radius=0.3, integrator=integrator)
-    world.add_robot((3.0, 1.5, heading), CIRCUMRADIUS, SQUARE)
+    world.add_body((3.0, 1.5, heading), CIRCUMRADIUS, SQUARE)
     for _ in range(40):
         world.step([5.0], [0.0], 0.1, travel_headings=[0.0])
         corners = placed(SQUARE, world.poses[0])
@@ -105,9 +105,9 @@ def test_bodies_never_overlap_a_polygon():
     occupied = np.zeros((80, 200), dtype=bool)
     occupied[[0, -1], :] = occupied[:, [0, -1]] = True
     world = World(grid_map(occupied), max_radius=0.3)
-    world.add_robot((3.0, 2.0, 0.4), CIRCUMRADIUS, SQUARE)
-    world.add_robot((6.0, 2.0, math.pi), 0.2)
-    world.add_robot((4.5, 3.2, -math.pi / 2), CIRCUMRADIUS, SQUARE)
+    world.add_body((3.0, 2.0, 0.4), CIRCUMRADIUS, SQUARE)
+    world.add_body((6.0, 2.0, math.pi), 0.2)
+    world.add_body((4.5, 3.2, -math.pi / 2), CIRCUMRADIUS, SQUARE)
     for _ in range(200):
         world.step([0.5, 0.5, 0.3], [0.3, 0.0, -0.4], 0.05)
         first = shapely.Polygon(placed(SQUARE, world.poses[0]))
@@ -121,12 +121,12 @@ def test_bodies_never_overlap_a_polygon():
 
 def test_a_polygon_cannot_be_placed_on_another_body():
     world = World(grid_map(np.zeros((60, 120), dtype=bool)), max_radius=0.3)
-    world.add_robot((2.0, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
-    with pytest.raises(PlacementError, match='overlaps robot 0'):
-        world.add_robot((2.35, 1.5, 0.0), 0.2)
-    world.add_robot((2.45, 1.5, 0.0), 0.2)
-    with pytest.raises(PlacementError, match='a footprint of 4 corners at .* overlaps robot 0'):
-        world.add_robot((2.0, 1.85, math.pi / 4), CIRCUMRADIUS, SQUARE)
+    world.add_body((2.0, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
+    with pytest.raises(PlacementError, match='overlaps body 0'):
+        world.add_body((2.35, 1.5, 0.0), 0.2)
+    world.add_body((2.45, 1.5, 0.0), 0.2)
+    with pytest.raises(PlacementError, match='a footprint of 4 corners at .* overlaps body 0'):
+        world.add_body((2.0, 1.85, math.pi / 4), CIRCUMRADIUS, SQUARE)
 
 
 def test_a_laser_sees_a_square_s_face_and_corner():

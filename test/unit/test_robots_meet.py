@@ -21,8 +21,8 @@ def gap(world, first=0, second=1):
 
 
 def test_head_on_robots_stop_short_of_each_other(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
-    world.add_robot((7.0, 2.0, math.pi), 0.25)
+    world.add_body((3.0, 2.0, 0.0), 0.2)
+    world.add_body((7.0, 2.0, math.pi), 0.25)
     for _ in range(200):
         moved = world.step([0.5, 0.5], [0.0, 0.0], 0.05)
         assert gap(world) >= 0.0
@@ -31,8 +31,8 @@ def test_head_on_robots_stop_short_of_each_other(world):
 
 
 def test_robot_driving_into_a_standing_one_is_stopped_and_the_other_is_not_pushed(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
-    world.add_robot((4.0, 2.0, 0.0), 0.2)
+    world.add_body((3.0, 2.0, 0.0), 0.2)
+    world.add_body((4.0, 2.0, 0.0), 0.2)
     for _ in range(100):
         world.step([1.0, 0.0], [0.0, 0.0], 0.05)
     assert world.poses[1].tolist() == [4.0, 2.0, 0.0]
@@ -40,50 +40,50 @@ def test_robot_driving_into_a_standing_one_is_stopped_and_the_other_is_not_pushe
 
 
 def test_robot_leaving_one_that_follows_is_not_blamed(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
-    world.add_robot((3.41, 2.0, 0.0), 0.2)
+    world.add_body((3.0, 2.0, 0.0), 0.2)
+    world.add_body((3.41, 2.0, 0.0), 0.2)
     assert world.step([1.0, 0.5], [0.0, 0.0], 0.1).tolist() == [False, True]
     assert gap(world) >= 0.0
 
 
 def test_robots_in_contact_may_turn_and_part(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
-    world.add_robot((3.41, 2.0, math.pi), 0.2)
+    world.add_body((3.0, 2.0, 0.0), 0.2)
+    world.add_body((3.41, 2.0, math.pi), 0.2)
     assert world.step([0.0, 0.0], [1.0, 1.0], 0.1).tolist() == [True, True]
     assert world.step([-0.5, -0.5], [0.0, 0.0], 0.1).tolist() == [True, True]
     assert gap(world) > 0.0
 
 
 def test_no_robot_can_be_placed_or_teleported_onto_another(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
-    world.add_robot((5.0, 2.0, 0.0), 0.2)
-    with pytest.raises(PlacementError, match='overlaps robot 0'):
-        world.add_robot((3.3, 2.1, 0.0), 0.2)
-    with pytest.raises(PlacementError, match='overlaps robot 0'):
-        world.move_robot(1, (3.2, 2.0, 1.0))
+    world.add_body((3.0, 2.0, 0.0), 0.2)
+    world.add_body((5.0, 2.0, 0.0), 0.2)
+    with pytest.raises(PlacementError, match='overlaps body 0'):
+        world.add_body((3.3, 2.1, 0.0), 0.2)
+    with pytest.raises(PlacementError, match='overlaps body 0'):
+        world.move_body(1, (3.2, 2.0, 1.0))
     assert world.poses[1].tolist() == [5.0, 2.0, 0.0]
-    world.move_robot(1, (6.0, 3.0, 1.0))
+    world.move_body(1, (6.0, 3.0, 1.0))
     assert world.poses[1].tolist() == [6.0, 3.0, 1.0]
-    world.move_robot(1, (6.05, 3.0, 1.0))
+    world.move_body(1, (6.05, 3.0, 1.0))
     with pytest.raises(PlacementError, match='touches a wall'):
-        world.move_robot(1, (9.9, 3.0, 1.0))
+        world.move_body(1, (9.9, 3.0, 1.0))
 
 
 def test_removing_a_robot_renumbers_those_after_it(world):
     for x in (2.0, 4.0, 6.0):
-        world.add_robot((x, 2.0, 0.0), 0.2)
-    world.remove_robot(1)
-    assert world.robot_count == 2
+        world.add_body((x, 2.0, 0.0), 0.2)
+    world.remove_body(1)
+    assert world.body_count == 2
     assert world.poses[:, 0].tolist() == [2.0, 6.0]
-    world.add_robot((4.0, 2.0, 0.0), 0.2)
+    world.add_body((4.0, 2.0, 0.0), 0.2)
 
 
 def test_a_crowd_never_overlaps(world):
     rng = np.random.default_rng(5)
-    while world.robot_count < 40:
+    while world.body_count < 40:
         try:
-            world.add_robot((rng.uniform(0.5, 9.5), rng.uniform(0.5, 3.5), rng.uniform(-3, 3)),
-                            0.2)
+            world.add_body((rng.uniform(0.5, 9.5), rng.uniform(0.5, 3.5), rng.uniform(-3, 3)),
+                           0.2)
         except PlacementError:
             continue
     for _ in range(200):
@@ -95,6 +95,6 @@ def test_a_crowd_never_overlaps(world):
 
 
 def test_a_step_kilometres_long_is_checked_along_its_whole_path(world):
-    world.add_robot((3.0, 2.0, 0.0), 0.2)
+    world.add_body((3.0, 2.0, 0.0), 0.2)
     assert world.step([10000.0], [0.0], 1.0).tolist() == [False]
     assert world.poses[0].tolist() == [3.0, 2.0, 0.0]
