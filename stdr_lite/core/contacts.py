@@ -20,18 +20,36 @@ from stdr_lite.core.footprints import placed
 FEW_BODIES = 8
 
 
-def depths(first_poses: np.ndarray, first_radii: np.ndarray, first_shapes: list,
-           second_poses: np.ndarray, second_radii: np.ndarray, second_shapes: list) -> np.ndarray:
+class Picked:
+    """The shapes of the bodies picked by index, each looked up only when asked for."""
+
+    def __init__(self, shapes: list, picked: np.ndarray):
+        self._shapes, self._picked = shapes, picked
+
+    def __getitem__(self, index: int):
+        return self._shapes[self._picked[index]]
+
+
+def depths(first_poses: np.ndarray, first_radii: np.ndarray, first_shapes,
+           second_poses: np.ndarray, second_radii: np.ndarray, second_shapes,
+           polygonal: np.ndarray | None = None) -> np.ndarray:
     """
     Return how deep each pair of bodies overlaps: positive only when it does.
 
     Each body is a pose, a radius (its circumscribed circle's, for a polygon) and a shape:
-    None for a circle, else its corners in its own frame.
+    None for a circle, else its corners in its own frame. polygonal, if given, says of each
+    pair whether a polygon takes part; the shapes (a list, or Picked) are looked up only for
+    the pairs whose circles overlap and that hold a polygon: a crowd of thousands of round
+    bodies pressed together costs numpy's work alone.
     """
     depth = first_radii + second_radii - np.hypot(first_poses[:, 0] - second_poses[:, 0],
                                                   first_poses[:, 1] - second_poses[:, 1])
-    for index, (first, second) in enumerate(zip(first_shapes, second_shapes)):
-        if (first is not None or second is not None) and depth[index] > 0.0:
+    weighed = depth > 0.0
+    if polygonal is not None:
+        weighed &= polygonal
+    for index in np.flatnonzero(weighed).tolist():
+        first, second = first_shapes[index], second_shapes[index]
+        if first is not None or second is not None:
             depth[index] = _polygon_depth(first_poses[index], first_radii[index], first,
                                           second_poses[index], second_radii[index], second)
     return depth
@@ -59,15 +77,17 @@ def overlapped(pose: tuple, radius: float, shape, poses: np.ndarray, radii: np.n
         return None
     count = close.size
     depth = depths(np.tile(np.asarray(pose, dtype=float), (count, 1)), np.full(count, radius),
-                   [shape] * count, poses[close], radii[close], [shapes[i] for i in close])
+                   [shape] * count, poses[close], radii[close], Picked(shapes, close))
     hits = close[depth > 0.0]
     return int(hits[np.argmax(depth[depth > 0.0])]) if hits.size else None
 
 
 def moving_into_others(start: np.ndarray, end: np.ndarray, radii: np.ndarray, shapes: list,
-                       moving: np.ndarray) -> np.ndarray:
+                       polygonal: np.ndarray, moving: np.ndarray) -> np.ndarray:
     """
     Return which bodies' steps (start to end poses) would bring them into another, or deeper.
+
+    polygonal says which bodies' shapes are polygons (the others are circles).
 
     Only bodies that move (moving) can be at fault. Rejecting a step can make another body's
     step the offending one, so the check repeats until no step offends; a body is at fault
@@ -85,23 +105,19 @@ def moving_into_others(start: np.ndarray, end: np.ndarray, radii: np.ndarray, sh
         pairs = cKDTree(start[:, :2]).query_pairs(reach, output_type='ndarray')
     pairs = np.concatenate([pairs, pairs[:, ::-1]])
     mover, other = pairs[moving[pairs[:, 0]]].T
+
     # Each depth after the mover's step, with the other body where it stands and where it
     # would go, and the same before: only pairs that could come into contact need weighing.
-    pair_shapes = ([shapes[i] for i in mover], [shapes[i] for i in other])
+    def depth(mover_poses, other_poses):
+        return depths(mover_poses[mover], radii[mover], Picked(shapes, mover),
+                      other_poses[other], radii[other], Picked(shapes, other),
+                      polygonal[mover] | polygonal[other])
 
-    def depth(mover_poses, other_poses, chosen):
-        return depths(mover_poses[mover[chosen]], radii[mover[chosen]],
-                      [pair_shapes[0][i] for i in chosen], other_poses[other[chosen]],
-                      radii[other[chosen]], [pair_shapes[1][i] for i in chosen])
-
-    everyone = np.arange(mover.size)
-    after_still, after_moved = depth(end, start, everyone), depth(end, end, everyone)
+    after_still, after_moved = depth(end, start), depth(end, end)
     close = np.flatnonzero(np.maximum(after_still, after_moved) > 0.0)
     mover, other = mover[close], other[close]
-    pair_shapes = ([pair_shapes[0][i] for i in close], [pair_shapes[1][i] for i in close])
     after_still, after_moved = after_still[close], after_moved[close]
-    everyone = np.arange(close.size)
-    before_still, before_moved = depth(start, start, everyone), depth(start, end, everyone)
+    before_still, before_moved = depth(start, start), depth(start, end)
     while mover.size:
         other_moved = moving[other] & ~rejected[other]
         after = np.where(other_moved, after_moved, after_still)

@@ -153,6 +153,7 @@ class World:
         new_poses = np.column_stack([new_x, new_y, wrap_angle(theta + angular * dt)])
         if self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
+                                         self.state.polygonal,
                                          moves & self._changes_footprint(speed, angular))
         self.state.pose = np.where(moves[:, None], new_poses, self.poses)
         return moves
@@ -177,6 +178,7 @@ class World:
         new_poses = np.array(ends, dtype=float).reshape(-1, 3)
         if self.body_count > 1 and self.bodies_meet:
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
+                                         self.state.polygonal,
                                          moves & self._changes_footprint(speed, angular))
         self.state.pose = np.where(moves[:, None], new_poses, self.poses)
         return moves

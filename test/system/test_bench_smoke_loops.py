@@ -19,5 +19,9 @@ def test_the_viewer_bench_prints_its_rate_against_the_viewers():
 
 
 def test_the_learning_bench_prints_the_vector_against_the_single_env():
-    assert_smoke_run_prints('learning', r'^waypoint_lab/Waypoints-v0, one robot, 64-ray laser: ',
-                            r"robot-steps/s .*: \d+\.\dx the single environment's steps/s")
+    assert_smoke_run_prints(
+        'learning', r'^waypoint_lab/Waypoints-v0, one robot, 64-ray laser: median [\d,]+ steps '
+        r'per CPU-second', r"robot-steps per CPU-second .*: \d+\.\dx the single environment's "
+        r'steps/s \(rounds: [\d.]+ to [\d.]+; target >= 20x: (met|missed)\)',
+        r'^a step of the single environment, \d+ us of CPU: world \d+, laser \d+, observation '
+        r'\d+, goal sets and reward \d+, commands \d+, environment and wrappers -?\d+$')
