@@ -78,7 +78,7 @@ for line in sys.stdin:
         env.step(rng.uniform([-0.5, -1.0], [0.5, 1.0]).reshape(2, 1))
         if env.done():
             env.reset()
-    print(json.dumps(steps / (time.process_time() - start)), flush=True)
+    print("RATE", json.dumps(steps / (time.process_time() - start)), flush=True)
 """
 
 
@@ -172,13 +172,23 @@ class Peer:
         return None
 
     def rate(self, steps):
-        """Return the peer's steps per CPU-second over steps steps."""
+        """Return the peer's steps per CPU-second over steps steps (its other output skipped)."""
         self.process.stdin.write(f'{steps}\n')
         self.process.stdin.flush()
-        line = self.process.stdout.readline()
-        if not line:
-            raise RuntimeError(f'{self.name} ended (exit code {self.process.wait()})')
-        return json.loads(line)
+        while True:
+            line = self.process.stdout.readline()
+            if not line:
+                raise OSError(f'it ended (exit code {self.process.wait()})')
+            if line.startswith('RATE '):
+                return json.loads(line.split(' ', 1)[1])
+
+    def warm_up(self):
+        """Take a few steps before measuring; return why the peer cannot run, or None."""
+        try:
+            self.rate(IRSIM_STEPS // 10)
+        except OSError as error:
+            return str(error)
+        return None
 
     def stop(self):
         if self.process is not None:
@@ -214,8 +224,9 @@ def main(argv=None):
         peer = Peer(name, requirement, venv)
         problem = peer.start()
         if problem is None:
+            problem = peer.warm_up()
+        if problem is None:
             peers.append(peer)
-            peer.rate(IRSIM_STEPS // 10)
         else:
             print(f'{name} not measured: {problem}')
     rates = {'single': [], 'vector': [], **{peer.name: [] for peer in peers}}
@@ -223,8 +234,12 @@ def main(argv=None):
         for _ in range(rounds):
             rates['single'].append(single_rate(single, rng, steps))
             rates['vector'].append(vector_rate(vector, rng, vector_steps))
-            for peer in peers:
-                rates[peer.name].append(peer.rate(IRSIM_STEPS))
+            for peer in list(peers):
+                try:
+                    rates[peer.name].append(peer.rate(IRSIM_STEPS))
+                except OSError as error:
+                    print(f'{peer.name} not measured: {error}')
+                    peers.remove(peer)
     finally:
         for peer in peers:
             peer.stop()
