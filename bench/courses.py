@@ -12,7 +12,8 @@ import math
 
 from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
-from stdr_lite.core.odometry import Odometry, OdometryNoise
+from stdr_lite.core.odometry import Odometry
+from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.state import WorldState
 from waypoint_controller.control_law import FollowerStep
 from waypoint_lab.waypoints import Waypoint

@@ -18,7 +18,7 @@ import importlib
 # The Python API is imported on first use (PEP 562): the tools that only talk to a running
 # node (stdr_ctl, move_robot, grade_lab) then start without the simulation's numba and scipy,
 # 0.6 s of every start.
-_HOMES = {'load_world': 'stdr_lite.core.loading', 'OdometryNoise': 'stdr_lite.core.odometry',
+_HOMES = {'load_world': 'stdr_lite.core.loading', 'OdometryNoise': 'stdr_lite.core.setting_values',
           'PlacementError': 'stdr_lite.core.world', 'RequestError': 'stdr_lite.core.entities',
           'RobotEntry': 'stdr_lite.core.robot_description',
           'Simulation': 'stdr_lite.core.simulation',

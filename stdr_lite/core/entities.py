@@ -3,10 +3,9 @@
 from dataclasses import dataclass, field, replace
 import enum
 
-from stdr_lite.core.odometry import OdometryNoise
 from stdr_lite.core.robot_description import Noise, RobotDescription
-from stdr_lite.core.setting_values import (SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED,
-                                           SENSOR_NOISE_MODES)
+from stdr_lite.core.setting_values import (OdometryNoise, SAFETY_ANGULAR_SPEED,
+                                           SAFETY_LINEAR_SPEED, SENSOR_NOISE_MODES)
 
 NANOSECONDS = 1_000_000_000
 

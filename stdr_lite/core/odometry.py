@@ -15,32 +15,11 @@ With every coefficient zero the odometry is the true pose, exactly, whatever hap
 """
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from simple_robot_control.pose import wrap_angle
-
-if TYPE_CHECKING:  # the state's module reads this one's OdometryNoise through entities.py
-    from stdr_lite.core.state import WorldState
-
-
-@dataclass(frozen=True)
-class OdometryNoise:
-    """
-    The drift coefficients; zero means exact odometry.
-
-    distance: std of the distance error after driving 1 m [m / sqrt(m)]; turn: std of the
-    heading error after turning 1 rad [rad / sqrt(rad)]; heading_per_distance: std of the
-    heading error after driving 1 m straight [rad / sqrt(m)].
-    """
-
-    distance: float = 0.0
-    turn: float = 0.0
-    heading_per_distance: float = 0.0
-
-    @property
-    def enabled(self) -> bool:
-        return (self.distance, self.turn, self.heading_per_distance) != (0.0, 0.0, 0.0)
+from stdr_lite.core.setting_values import OdometryNoise
+from stdr_lite.core.state import WorldState
 
 
 @dataclass(frozen=True)
@@ -74,7 +53,7 @@ class Odometry:
     state's odometry columns (state.py).
     """
 
-    def __init__(self, state: 'WorldState', noise: OdometryNoise = OdometryNoise(), seed: int = 0):
+    def __init__(self, state: WorldState, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
         self.state = state
         self.noise = noise
         self.reseed(seed)

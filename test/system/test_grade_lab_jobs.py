@@ -1,4 +1,4 @@
-"""grade_lab on our own controller: verdicts agree however many courses run at once."""
+"""grade_lab on our own controller: verdicts hold however many courses run at once."""
 
 from xml.etree import ElementTree
 
@@ -14,17 +14,20 @@ def short_courses(folder):
     return folder
 
 
-def test_verdicts_agree_whatever_the_number_of_runs_at_once(tmp_path):
-    """At real time, courses graded four at a time on two cores are judged as one at a time."""
+def test_courses_graded_four_at_a_time_are_judged_as_one_at_a_time(tmp_path):
+    """
+    At real time, four courses at once on two cores: our controller passes every check of each.
+
+    Alone, it passes every check of such courses (the verdict of each is known), so that is
+    the verdict one at a time would give: grading them twice to compare is not needed.
+    """
     courses = short_courses(tmp_path / 'courses')
-    outcomes = []
-    for jobs in (1, 4):
-        report = tmp_path / f'jobs{jobs}'
-        result = grade('--courses', courses, '--jobs', jobs, '--report', report, '--',
-                       installed_executable('waypoint_controller'), '{waypoints}')
-        assert result.returncode == 0, result.stdout + result.stderr
-        suites = ElementTree.parse(report / 'junit.xml').getroot()
-        outcomes.append({(suite.get('name'), case.get('name'), case.find('failure') is None)
-                         for suite in suites for case in suite.iter('testcase')})
-    assert outcomes[0] == outcomes[1]
-    assert len(outcomes[0]) == 4 * 5
+    report = tmp_path / 'report'
+    result = grade('--courses', courses, '--jobs', 4, '--report', report, '--',
+                   installed_executable('waypoint_controller'), '{waypoints}')
+    assert result.returncode == 0, result.stdout + result.stderr
+    suites = ElementTree.parse(report / 'junit.xml').getroot()
+    outcomes = {(suite.get('name'), case.get('name'), case.find('failure') is None)
+                for suite in suites for case in suite.iter('testcase')}
+    assert len(outcomes) == 4 * 5
+    assert all(passed for _, _, passed in outcomes), sorted(outcomes)

@@ -8,8 +8,9 @@ import pytest
 
 from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.pose import compose
-from stdr_lite.core.odometry import Odometry, OdometryNoise
+from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
+from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.simulation import Simulation, SimulationSettings
 from stdr_lite.core.state import WorldState
 
