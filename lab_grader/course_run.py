@@ -327,16 +327,18 @@ class _Run:
         statuses among them) may lag (a lockstep run goes as fast as the controller): it has
         caught up once it has the ROS truth sent at the moment the run was over, or when
         nothing has come for a while (in lockstep the simulator waits for a controller that
-        has ended).
+        has ended). Statuses waiting in the recorder's subscription are taken at each look:
+        a busy executor took a flood's too slowly to count them before they fell quiet.
         """
         over = time.time_ns()
         recorder = self.recorder
 
         def caught_up():
+            taken = recorder.take_waiting_statuses()
             now = time.monotonic()
             return (self.link.last_sent >= over or self._quiet(self.link.last_sent)) and (
                 recorder.truth_sent >= over or now - recorder.truth_heard_at > QUIET) and (
-                now - recorder.status_heard_at > QUIET)
+                not taken and now - recorder.status_heard_at > QUIET)
         if not self.spin(caught_up, CATCH_UP) and not self.stopping.is_set():
             raise GradingError(f'the recorder was still {CATCH_UP:g} s behind the simulator at '
                                'the end (the machine is too busy): grade with fewer --jobs or '

@@ -77,6 +77,10 @@ class GradingRecorder(GuardedNode):
         return max(len(self.statuses),
                    self.recording.highest_sequence.get(f'/{STATUS_TOPIC}', 0))
 
+    def take_waiting_statuses(self) -> int:
+        """Take every status that waits in the subscription now (see BagRecording)."""
+        return self.recording.take_waiting(f'/{STATUS_TOPIC}')
+
     @property
     def flooded(self) -> bool:
         return self.sent_statuses > self.status_limit

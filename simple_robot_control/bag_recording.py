@@ -239,6 +239,26 @@ class BagRecording:
         """Return the subscription recording topic, or None while it is not recorded."""
         return self._recorded.get(topic)
 
+    def take_waiting(self, topic) -> int:
+        """
+        Take now every message of topic that waits in its subscription; return how many.
+
+        As the executor takes them, through the same callback, for a reader that must hold
+        all that was sent before it judges: a starved executor may leave a reliable
+        publisher's acknowledged messages waiting in the reader for seconds.
+        """
+        subscription = self._recorded.get(topic)
+        taken = 0
+        while subscription is not None:
+            with subscription.handle:
+                message = subscription.handle.take_message(subscription.msg_type,
+                                                           subscription.raw)
+            if message is None:
+                return taken
+            subscription.callback(*(message if self._send_times else message[:1]))
+            taken += 1
+        return taken
+
     @property
     def failed(self):
         """Whether the disk stopped taking the bag, which then ended early."""

@@ -69,3 +69,22 @@ def stop(process, signal_number, timeout=10.0):
     process.send_signal(signal_number)
     process.wait(timeout=timeout)
     return process.returncode, time.monotonic() - sent
+
+
+def signals_held(process) -> bool:
+    """
+    Whether Ctrl-C and SIGTERM are in the package's hands in process (Linux's /proc says).
+
+    They are from the moment its .pth blocks them (early_signals.py) until its own handlers
+    take them; before that, in the interpreter's first lines, nothing of the package runs yet
+    and Python's own default ends the process. A process that has ended holds them too: its
+    test goes on and sees how it ended.
+    """
+    try:
+        status = Path(f'/proc/{process.pid}/status').read_text()
+    except OSError:
+        return True
+    masks = dict(line.split(':\t', 1) for line in status.splitlines() if ':\t' in line)
+    both = (1 << (signal.SIGINT - 1)) | (1 << (signal.SIGTERM - 1))
+    return (int(masks['SigBlk'], 16) & both == both
+            or int(masks['SigCgt'], 16) & (1 << (signal.SIGTERM - 1)) != 0)

@@ -57,7 +57,8 @@ class Attacker(Node):
 
     def __init__(self):
         super().__init__('attacker')
-        self.status = self.create_publisher(String, 'robot_status', 10)
+        # Deep enough to hold a whole flood: publishing never waits for the grader's acks.
+        self.status = self.create_publisher(String, 'robot_status', 1000)
         self.poses = []
         self.create_subscription(Odometry, 'robot0/odom',
                                  lambda message: self.poses.append(pose_of(message)), 10)

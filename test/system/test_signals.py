@@ -9,7 +9,8 @@ import time
 from bench.realtime import write_robot_grid
 import numpy as np
 from PIL import Image
-from processes import executable, run, start, start_logged, stop, wait_for_text
+from processes import (executable, run, signals_held, start, start_logged, stop, wait_for_text,
+                       wait_until)
 import pytest
 
 STOP_WITHIN = 1.0
@@ -57,9 +58,10 @@ def test_the_simulator_stops_in_every_mode(tmp_path, mode, signal_number):
 @pytest.mark.parametrize('name', ['stdr_lite', 'waypoint_controller', 'course_monitor',
                                   'record_run', 'move_robot', 'stdr_viewer', 'plot_run'])
 def test_a_signal_while_starting_up_is_quiet(tmp_path, name, signal_number):
+    """From the package's first line on, while the modules load (a busy machine: seconds)."""
     log = tmp_path / f'{name}.log'
     process = start_logged(name, log=log, stdin=subprocess.PIPE, cwd=tmp_path)
-    time.sleep(0.3)
+    wait_until(lambda: signals_held(process), 'the signals held by the package', process)
     assert_quiet_prompt_exit(process, signal_number, log)
 
 
