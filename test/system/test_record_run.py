@@ -33,10 +33,17 @@ def recording(tmp_path, request):
         wait_for_text(tmp_path / 'stdr_lite.log', 'real_time_factor', simulator)
         bag = tmp_path / 'run.mcap'
         recorder = start('record_run', '--ros-args', '-p', f'bag:={bag}', '--log-level', 'info')
-        # Chunks written out, every robot's odometry among them.
-        wait_until(lambda: bag.exists() and bag.stat().st_size > 100_000
-                   and len(written_topics(bag, '/odom')) == (robots or 1),
-                   "chunks with every robot's odometry written", recorder, timeout=60.0)
+        # Chunks written out, every robot's odometry among them, and the latched topics (the
+        # recorder follows the graph a slice at a time: on a busy machine they may come last).
+
+        def written():
+            if not (bag.exists() and bag.stat().st_size > 100_000):
+                return False
+            topics = written_topics(bag, '')
+            return (len([topic for topic in topics if topic.endswith('/odom')]) == (robots or 1)
+                    and {'/map', '/tf_static'} <= topics)
+        wait_until(written, "chunks with every robot's odometry and the latched topics written",
+                   recorder, timeout=60.0)
         yield recorder, bag
     finally:
         assert stop(simulator, signal.SIGINT)[0] == 0
