@@ -66,13 +66,10 @@ class Odometry:
         """
         Measure the step just taken, in which each body moved at its applied velocity.
 
-        Without noise the odometry simply takes the true poses after the step.
+        Only drifting odometry is advanced: without noise the odometry is the true pose, which
+        the simulation reads as it is (readings.py), and nothing calls this.
         """
         state = self.state
-        if not self.noise.enabled:
-            state.odometry_pose = state.pose.copy()
-            state.odometry_velocity = state.applied.copy()
-            return
         distance, sideways = state.applied[:, 0] * dt, state.applied[:, 1] * dt
         turn = state.applied[:, 2] * dt
         variance_distance = self.noise.distance ** 2 * np.abs(distance)
