@@ -65,22 +65,23 @@ train: install
 demo-policy: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller LOCKSTEP=false scripts/demo.sh
 
-# In-process tests import the package from this tree: its ray caster is compiled into the tree's
-# numba cache first (as install does for the installed copy), not in the middle of a test.
-WARM_RAY_CASTER := -c 'import stdr_lite; stdr_lite.load_world().sensor_readings("robot0")'
+# In-process tests import the package from this tree: its compiled core (stdr_lite/core/warm_up.py)
+# goes into the tree's numba cache first (as install does for the installed copy), not in the
+# middle of a test.
+WARM_COMPILED := -c 'from stdr_lite.core.warm_up import compile_core; compile_core()'
 
 test: install $(VENV)/.test-dependencies
-	$(PYTHON) $(WARM_RAY_CASTER)
+	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest
 
 # A developer's minute: the unit and node tiers on two workers (make test stays the whole suite).
 test-quick: install $(VENV)/.test-dependencies
-	$(PYTHON) $(WARM_RAY_CASTER)
+	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest test/unit test/node
 
 # One tier of the suite at a time: unit (pure logic), node (nodes in-process), system (executables).
 test-unit test-node test-system: install $(VENV)/.test-dependencies
-	$(PYTHON) $(WARM_RAY_CASTER)
+	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest test/$(@:test-%=%)
 
 # STDR's own robot files load unchanged: STDR_RESOURCES=<stdr_simulator>/stdr_resources/resources
@@ -88,9 +89,9 @@ check-stdr: install $(VENV)/.test-dependencies
 	test -d "$(STDR_RESOURCES)/robots" || { echo 'check-stdr: set STDR_RESOURCES to the stdr_resources/resources folder of an stdr_simulator checkout' >&2; exit 2; }
 	STDR_RESOURCES="$(abspath $(STDR_RESOURCES))" $(PYTHON) -m pytest -q test/unit/test_stdr_release_files.py
 
-# Reading a robot's sensors once (from outside the tree, so the installed package is the one read)
-# compiles the ray caster into numba's cache beside it: 2.5 s in a new venv, 1 s once cached; here
-# rather than in the first run that reads a laser, whose simulator would stand still meanwhile.
+# Stepping a small crowd and reading a laser once (from outside the tree, so the installed package
+# is the one run) compiles the core into numba's cache beside it: 15 s in a new venv, 1 s once
+# cached; here rather than in the first run that steps, whose simulator would stand still.
 # Reinstalled only when a file the package is built from changed (every target runs install:
 # a reinstall each time cost 10-40 s and broke tools running from the venv meanwhile).
 PACKAGE_SOURCES := setup.py setup.cfg package.xml $(shell find simple_robot_control stdr_lite \
@@ -100,7 +101,7 @@ install: $(VENV)/.installed
 $(VENV)/.installed: $(VENV)/.dependencies $(VENV)/.interfaces $(PACKAGE_SOURCES)
 	rm -rf build
 	$(PIP) install --quiet --no-deps --no-build-isolation --force-reinstall . 2> >(grep -v 'is ignored' >&2)
-	cd / && $(abspath $(PYTHON)) $(WARM_RAY_CASTER)
+	cd / && $(abspath $(PYTHON)) $(WARM_COMPILED)
 	touch $@
 
 # Interface packages the PyPI wheels lack (tf2_msgs), built into the venv when they do not import.

@@ -36,17 +36,25 @@ def set_pose(pose, x: float, y: float, theta: float) -> None:
     set_yaw(pose.orientation, theta)
 
 
+def wrap_number(angle: float) -> float:
+    """
+    Wrap one angle to (-pi, pi]: the rule itself, which the simulator's compiled step uses too.
+
+    Plain Python that numba compiles as it is (stdr_lite/core/kinematics.py): one source.
+    """
+    wrapped = (angle + math.pi) % math.tau - math.pi
+    return math.pi if wrapped == -math.pi else wrapped
+
+
 def wrap_angle(angle: ArrayLike) -> float | np.ndarray:
     """
     Wrap angles to (-pi, pi]: one value for each heading, the one rule everywhere.
 
-    A number gives a float, in plain Python (a fraction of numpy's per-call cost); an array
-    gives an array; both to the same bit (numpy's remainder is Python's float modulo), so the
-    simulator's one-robot and many-robot steps agree exactly.
+    A number gives a float (wrap_number, a fraction of numpy's per-call cost); an array gives
+    an array, to the same bit (numpy's remainder is Python's float modulo).
     """
     if isinstance(angle, (float, int)):
-        wrapped = (angle + math.pi) % math.tau - math.pi
-        return math.pi if wrapped == -math.pi else wrapped
+        return wrap_number(angle)
     wrapped = np.remainder(np.asarray(angle, dtype=float) + np.pi, math.tau) - np.pi
     return np.where(wrapped == -np.pi, np.pi, wrapped)[()]
 

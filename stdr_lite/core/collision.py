@@ -8,11 +8,13 @@ transform, done once, gives every cell a lower bound of the distance from any of
 an occupied square, so a robot in open space (or a step whose whole path stays in open space)
 costs one lookup, and only robots near a wall pay for the exact check against the cells around
 them: for a polygon, those within its circumradius, whatever its heading. Everything outside
-the map counts as occupied.
+the map counts as occupied. A circle's checks are compiled (numba), one circle at a time, so
+the World's compiled step calls them too; a polygon's, rarer, are numpy's.
 """
 
 import math
 
+from numba import njit
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.ndimage import distance_transform_edt
@@ -69,6 +71,18 @@ class FootprintChecker:
         self._window_rows, self._window_cols = rows[order], cols[order]
         self._window_gaps = gaps[order]
 
+    @property
+    def grid(self) -> tuple:
+        """
+        Return what the compiled checks read of the map, in circle_touches' order.
+
+        Compiled functions called from Python take it as separate arguments (*grid): numba
+        types a tuple argument in Python on every call, tens of microseconds.
+        """
+        return (self._origin[0], self._origin[1], self._cos_yaw, self._sin_yaw, self.resolution,
+                self.wall_gap, self._padded, self._pad, self._window_rows, self._window_cols,
+                self._window_gaps)
+
     def _cells(self, x, y):
         map_x, map_y = self.to_map_frame(x, y)
         cols = np.floor(map_x / self.resolution).astype(np.int64)
@@ -84,20 +98,9 @@ class FootprintChecker:
         The path may go anywhere within step_length of its start. False means it must be
         checked, not that it touches.
         """
-        _, _, rows, cols, inside = self._cells(x, y)
-        clear = inside
-        reach = np.broadcast_to(np.asarray(step_length) + radius, clear.shape)
-        clear[clear] = self.wall_gap[rows[clear], cols[clear]] >= reach[clear]
-        return clear
-
-    def clear_for_motion_one(self, x: float, y: float, step_length: float,
-                             radius: float) -> bool:
-        """Do as clear_for_motion for one circle, in plain Python floats."""
-        dx, dy = x - self._origin[0], y - self._origin[1]
-        col = math.floor((self._cos_yaw * dx + self._sin_yaw * dy) / self.resolution)
-        row = math.floor((-self._sin_yaw * dx + self._cos_yaw * dy) / self.resolution)
-        return (0 <= row < self._height and 0 <= col < self._width
-                and self.wall_gap.item(row, col) >= step_length + radius)
+        x, y, reach = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float),
+                                          np.asarray(step_length, dtype=float) + radius)
+        return _clear_many(x.ravel(), y.ravel(), reach.ravel(), *self.grid).reshape(x.shape)
 
     def to_map_frame(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Express world coordinates in the frame of the map's lower-left corner."""
@@ -112,38 +115,10 @@ class FootprintChecker:
 
         x, y and radius broadcast together; each radius must not exceed max_radius.
         """
-        x, y, radius = np.broadcast_arrays(x, y, np.asarray(radius, dtype=float))
-        shape = x.shape
-        map_x, map_y, rows, cols, inside = self._cells(x.ravel(), y.ravel())
-        radius = radius.ravel()
-        result = ~inside
-        candidates = np.flatnonzero(inside)
-        candidates = candidates[self.wall_gap[rows[candidates], cols[candidates]]
-                                < radius[candidates]]
-        if candidates.size == 0:
-            return result.reshape(shape)
-        # The exact test weighs each cell of a window around each point, only as far out as
-        # the largest radius reaches: points go in batches, so memory stays bounded however
-        # many points and however large the window.
-        window = int(np.searchsorted(self._window_gaps, float(np.max(radius[candidates]))))
-        batch = max(1, CELLS_PER_BATCH // window)
-        for start in range(0, candidates.size, batch):
-            chosen = candidates[start:start + batch]
-            result[chosen] = self._touches_exactly(map_x[chosen], map_y[chosen], rows[chosen],
-                                                   cols[chosen], radius[chosen], window)
-        return result.reshape(shape)
-
-    def _touches_exactly(self, map_x, map_y, rows, cols, radius, window):
-        cell_rows = rows[:, None] + self._window_rows[None, :window]
-        cell_cols = cols[:, None] + self._window_cols[None, :window]
-        occupied = self._padded[cell_rows + self._pad, cell_cols + self._pad]
-        half = 0.5 * self.resolution
-        centre_x = (cell_cols + 0.5) * self.resolution
-        centre_y = (cell_rows + 0.5) * self.resolution
-        gap_x = np.maximum(np.abs(map_x[:, None] - centre_x) - half, 0.0)
-        gap_y = np.maximum(np.abs(map_y[:, None] - centre_y) - half, 0.0)
-        close = gap_x ** 2 + gap_y ** 2 < (radius ** 2)[:, None]
-        return np.any(occupied & close, axis=1)
+        x, y, radius = np.broadcast_arrays(np.asarray(x, dtype=float),
+                                           np.asarray(y, dtype=float),
+                                           np.asarray(radius, dtype=float))
+        return _touches_many(x.ravel(), y.ravel(), radius.ravel(), *self.grid).reshape(x.shape)
 
     def polygon_touches(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike,
                         points: np.ndarray) -> np.ndarray:
@@ -235,3 +210,65 @@ def inside_polygons(x: np.ndarray, y: np.ndarray, start_x: np.ndarray, start_y: 
     with np.errstate(divide='ignore', invalid='ignore'):
         crossing_x = start_x + (y - start_y) * (end_x - start_x) / (end_y - start_y)
     return np.count_nonzero(straddles & (x < crossing_x), axis=1) % 2 == 1
+
+
+@njit(cache=True)
+def _map_cell(grid, x, y):
+    """Return (map x, map y, row, column, whether the cell is on the map) of a point."""
+    origin_x, origin_y, cos_yaw, sin_yaw, resolution, wall_gap = grid[:6]
+    dx, dy = x - origin_x, y - origin_y
+    map_x, map_y = cos_yaw * dx + sin_yaw * dy, -sin_yaw * dx + cos_yaw * dy
+    col, row = math.floor(map_x / resolution), math.floor(map_y / resolution)
+    height, width = wall_gap.shape
+    return map_x, map_y, row, col, 0 <= row < height and 0 <= col < width
+
+
+@njit(cache=True)
+def clear_at(grid: tuple, x: float, y: float, reach: float) -> bool:
+    """Whether nothing occupied lies within reach of any point of (x, y)'s cell (a bound)."""
+    _, _, row, col, inside = _map_cell(grid, x, y)
+    return inside and grid[5][row, col] >= reach
+
+
+@njit(cache=True)
+def circle_touches(grid: tuple, x: float, y: float, radius: float) -> bool:
+    """
+    Whether a circle touches an occupied cell or the outside: the exact check of one circle.
+
+    grid is FootprintChecker.grid. In open space the wall gap answers at once; near a wall the
+    cells around the circle's, nearest first, are weighed as far out as the radius reaches.
+    """
+    map_x, map_y, row, col, inside = _map_cell(grid, x, y)
+    if not inside:
+        return True
+    resolution, wall_gap, padded, pad, window_rows, window_cols, window_gaps = grid[4:]
+    if wall_gap[row, col] >= radius:
+        return False
+    half = 0.5 * resolution
+    for cell in range(window_gaps.size):
+        if window_gaps[cell] >= radius:
+            break
+        cell_row, cell_col = row + window_rows[cell], col + window_cols[cell]
+        if not padded[cell_row + pad, cell_col + pad]:
+            continue
+        gap_x = max(abs(map_x - (cell_col + 0.5) * resolution) - half, 0.0)
+        gap_y = max(abs(map_y - (cell_row + 0.5) * resolution) - half, 0.0)
+        if gap_x * gap_x + gap_y * gap_y < radius * radius:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _touches_many(x, y, radius, *grid):
+    touched = np.empty(x.size, dtype=np.bool_)
+    for point in range(x.size):
+        touched[point] = circle_touches(grid, x[point], y[point], radius[point])
+    return touched
+
+
+@njit(cache=True)
+def _clear_many(x, y, reach, *grid):
+    clear = np.empty(x.size, dtype=np.bool_)
+    for point in range(x.size):
+        clear[point] = clear_at(grid, x[point], y[point], reach[point])
+    return clear

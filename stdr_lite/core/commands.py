@@ -3,6 +3,7 @@
 import enum
 import math
 
+from numba import njit
 import numpy as np
 from stdr_lite.core.setting_values import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
 from stdr_lite.core.state import WorldState
@@ -55,26 +56,16 @@ class HeldCommands:
         speed = math.hypot(linear, lateral)
         if speed <= self.max_linear_speed and abs(angular) <= self.max_angular_speed:
             return (linear, lateral, angular), CommandOutcome.APPLIED
-        scale = min(1.0, self.max_linear_speed / speed) if speed else 1.0
-        turn = min(max(angular, -self.max_angular_speed), self.max_angular_speed)
         at_bound = speed > self.safety[0] or abs(angular) > self.safety[1]
         outcome = (CommandOutcome.SAFETY_BOUND if at_bound and not self.clamps
                    else CommandOutcome.CLAMPED)
-        return (linear * scale, lateral * scale, turn), outcome
+        return _limit(linear, lateral, angular, self.max_linear_speed,
+                      self.max_angular_speed), outcome
 
     def limited_rows(self, commands: np.ndarray) -> np.ndarray:
         """Return (linear, lateral, angular) rows within the limits, as limited() makes each."""
-        speed = np.hypot(commands[:, 0], commands[:, 1])
-        outside = (speed > self.max_linear_speed) | (np.abs(commands[:, 2])
-                                                     > self.max_angular_speed)
-        if not outside.any():
-            return commands
-        with np.errstate(divide='ignore'):
-            scale = np.where(speed > 0.0, np.minimum(1.0, self.max_linear_speed / speed), 1.0)
-        limited = np.column_stack([commands[:, 0] * scale, commands[:, 1] * scale,
-                                   np.clip(commands[:, 2], -self.max_angular_speed,
-                                           self.max_angular_speed)])
-        return np.where(outside[:, None], limited, commands)
+        return _limit_rows(np.ascontiguousarray(commands, dtype=float), self.max_linear_speed,
+                           self.max_angular_speed)
 
     def update_rows(self, indices: np.ndarray, commands: np.ndarray, now: float) -> None:
         """Hold each row of commands for the robot of the same row of indices from now on."""
@@ -93,3 +84,28 @@ class HeldCommands:
             commands = np.where(((now - self.state.commanded_at) <= self.timeout)[:, None],
                                 commands, 0.0)
         return commands[:, 0].copy(), commands[:, 1].copy(), commands[:, 2].copy()
+
+
+@njit(cache=True)
+def _limit(linear, lateral, angular, max_linear_speed, max_angular_speed):
+    """
+    Return a command within the limits: the speed scaled down to the limit, the turn clipped.
+
+    The one rule of both limited() and limited_rows(); a command within them is kept as it is.
+    """
+    speed = math.hypot(linear, lateral)
+    if speed <= max_linear_speed and abs(angular) <= max_angular_speed:
+        return linear, lateral, angular
+    scale = min(1.0, max_linear_speed / speed) if speed > 0.0 else 1.0
+    return (linear * scale, lateral * scale,
+            min(max(angular, -max_angular_speed), max_angular_speed))
+
+
+@njit(cache=True)
+def _limit_rows(commands, max_linear_speed, max_angular_speed):
+    limited = np.empty_like(commands)
+    for row in range(commands.shape[0]):
+        limited[row, 0], limited[row, 1], limited[row, 2] = _limit(
+            commands[row, 0], commands[row, 1], commands[row, 2], max_linear_speed,
+            max_angular_speed)
+    return limited

@@ -11,13 +11,12 @@ are found by their circumscribed circles first, so polygons cost only when bodie
 No ROS here.
 """
 
+import math
+
+from numba import njit
 import numpy as np
-from scipy.spatial import cKDTree
 import shapely
 from stdr_lite.core.footprints import placed
-
-# Up to this many bodies every pair is looked at; beyond, a k-d tree finds the close ones.
-FEW_BODIES = 8
 
 
 class Picked:
@@ -91,44 +90,108 @@ def moving_into_others(start: np.ndarray, end: np.ndarray, radii: np.ndarray, sh
 
     Only bodies that move (moving) can be at fault. Rejecting a step can make another body's
     step the offending one, so the check repeats until no step offends; a body is at fault
-    only if its own motion closes the gap.
+    only if its own motion closes the gap. Compiled (numba) but for the depths of the pairs
+    where a polygon takes part, which shapely measures.
     """
-    count = len(radii)
-    rejected = np.zeros(count, dtype=bool)
-    if not moving.any() or count < 2:
-        return rejected
-    if count <= FEW_BODIES:
-        pairs = np.column_stack(np.triu_indices(count, 1))
-    else:
-        longest = float(np.max(np.hypot(*(end[:, :2] - start[:, :2]).T)))
-        reach = 2.0 * float(np.max(radii)) + 2.0 * longest
-        pairs = cKDTree(start[:, :2]).query_pairs(reach, output_type='ndarray')
-    pairs = np.concatenate([pairs, pairs[:, ::-1]])
-    mover, other = pairs[moving[pairs[:, 0]]].T
+    if not moving.any() or len(radii) < 2:
+        return np.zeros(len(radii), dtype=bool)
+    mover, other, weighed = _close_pairs(start, end, radii, moving)
+    if polygonal.any():
+        pairs = np.flatnonzero((polygonal[mover] | polygonal[other])
+                               & (weighed.max(axis=1) > 0.0))
+        for column, (mover_poses, other_poses) in enumerate(((end, start), (end, end),
+                                                             (start, start), (start, end))):
+            weighed[pairs, column] = depths(
+                mover_poses[mover[pairs]], radii[mover[pairs]], Picked(shapes, mover[pairs]),
+                other_poses[other[pairs]], radii[other[pairs]], Picked(shapes, other[pairs]))
+    return _rejections(mover, other, weighed, moving)
 
-    # Each depth after the mover's step, with the other body where it stands and where it
-    # would go, and the same before: only pairs that could come into contact need weighing.
-    def depth(mover_poses, other_poses):
-        return depths(mover_poses[mover], radii[mover], Picked(shapes, mover),
-                      other_poses[other], radii[other], Picked(shapes, other),
-                      polygonal[mover] | polygonal[other])
 
-    after_still, after_moved = depth(end, start), depth(end, end)
-    close = np.flatnonzero(np.maximum(after_still, after_moved) > 0.0)
-    mover, other = mover[close], other[close]
-    after_still, after_moved = after_still[close], after_moved[close]
-    before_still, before_moved = depth(start, start), depth(start, end)
-    while mover.size:
-        other_moved = moving[other] & ~rejected[other]
-        after = np.where(other_moved, after_moved, after_still)
-        before = np.where(other_moved, before_moved, before_still)
-        offending = (after > 0.0) & (after > before)
-        if not offending.any():
-            break
-        rejected[mover[offending]] = True
-        # A rejected body stays put: its pairs can offend no more.
-        keep = ~rejected[mover]
-        mover, other = mover[keep], other[keep]
-        after_still, after_moved = after_still[keep], after_moved[keep]
-        before_still, before_moved = before_still[keep], before_moved[keep]
-    return rejected
+@njit(cache=True)
+def _grown(array, size):
+    """Return array with room for size rows, keeping its contents."""
+    if size <= array.shape[0]:
+        return array
+    larger = np.empty((max(size, 2 * array.shape[0]),) + array.shape[1:], dtype=array.dtype)
+    larger[:array.shape[0]] = array
+    return larger
+
+
+@njit(cache=True)
+def _circle_depth(first, second, radius):
+    return radius - math.hypot(first[0] - second[0], first[1] - second[1])
+
+
+@njit(cache=True)
+def _close_pairs(start, end, radii, moving):
+    """
+    Return the pairs (mover, other) that could come into contact, with their circles' depths.
+
+    Sweep and prune along x finds the bodies within reach of each other (the two largest
+    radii and the two longest steps); each pair is kept in the orders whose first body moves
+    and whose depth, after the step, is positive with the other where it stands or where it
+    goes. The depths' columns: after the step with the other still, and moved; before the
+    step, with the other still, and moved.
+    """
+    count = radii.size
+    longest = 0.0
+    for body in range(count):
+        longest = max(longest, math.hypot(end[body, 0] - start[body, 0],
+                                          end[body, 1] - start[body, 1]))
+    reach = 2.0 * radii.max() + 2.0 * longest
+    order = np.argsort(start[:, 0], kind='mergesort')
+    mover = np.empty(64, dtype=np.int64)
+    other = np.empty(64, dtype=np.int64)
+    weighed = np.empty((64, 4))
+    found = 0
+    for rank in range(count):
+        first = order[rank]
+        for later in range(rank + 1, count):
+            second = order[later]
+            if start[second, 0] - start[first, 0] > reach:
+                break
+            if abs(start[second, 1] - start[first, 1]) > reach:
+                continue
+            for one, two in ((first, second), (second, first)):
+                if not moving[one]:
+                    continue
+                radius = radii[one] + radii[two]
+                still = _circle_depth(end[one], start[two], radius)
+                moved = _circle_depth(end[one], end[two], radius)
+                if max(still, moved) <= 0.0:
+                    continue
+                mover, other = _grown(mover, found + 1), _grown(other, found + 1)
+                weighed = _grown(weighed, found + 1)
+                mover[found], other[found] = one, two
+                weighed[found, 0], weighed[found, 1] = still, moved
+                weighed[found, 2] = _circle_depth(start[one], start[two], radius)
+                weighed[found, 3] = _circle_depth(start[one], end[two], radius)
+                found += 1
+    return mover[:found], other[:found], weighed[:found]
+
+
+@njit(cache=True)
+def _rejections(mover, other, weighed, moving):
+    """
+    Reject, round by round, every step that brings its body into another or deeper.
+
+    In a round each pair weighs the other body where it will be (moved unless its step is
+    rejected or it does not move); every offending mover of the round is rejected at once,
+    and the rounds go on until none offends.
+    """
+    rejected = np.zeros(moving.size, dtype=np.bool_)
+    offends = np.zeros(moving.size, dtype=np.bool_)
+    while True:
+        any_offends = False
+        for pair in range(mover.size):
+            one, two = mover[pair], other[pair]
+            if rejected[one]:
+                continue
+            other_moves = moving[two] and not rejected[two]
+            after = weighed[pair, 1] if other_moves else weighed[pair, 0]
+            before = weighed[pair, 3] if other_moves else weighed[pair, 2]
+            if after > 0.0 and after > before:
+                offends[one] = any_offends = True
+        if not any_offends:
+            return rejected
+        rejected |= offends

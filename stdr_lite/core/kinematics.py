@@ -1,68 +1,70 @@
 """
-Unicycle kinematics, vectorized over any number of robots.
+Unicycle kinematics: each integrator written once, compiled (numba), for one body or many.
 
-Every function broadcasts: pass scalars for one robot, arrays for many, or an extra trailing
-axis of durations to sample a step at several instants. The *_one twins do the same for one
-robot in plain Python floats, to the last bit (numpy's sin, cos and remainder are the C
-library's; wrap_angle is one rule for both), at a fraction of numpy's per-call cost.
+euler_pose and arc_pose advance one body and are what the World's compiled step calls;
+euler_step and arc_step are the same rules as numpy ufuncs, which broadcast: scalars for one
+robot, arrays for many, or an extra trailing axis of durations to sample a step at several
+instants. Headings are wrapped by the one rule of simple_robot_control.pose, compiled as it is.
 """
 
 import math
 
-import numpy as np
-from numpy.typing import ArrayLike
-from simple_robot_control.pose import wrap_angle
+from numba import guvectorize, njit
+from simple_robot_control.pose import wrap_number
 from stdr_lite.core.setting_values import ARC, EULER
 
+wrap = njit(cache=True)(wrap_number)
 
-def euler_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
-               dt: ArrayLike) -> tuple:
+
+@njit(cache=True)
+def euler_pose(x: float, y: float, theta: float, v: float, omega: float,
+               dt: float) -> tuple:
     """
     Advance by dt with the lab's forward-Euler update (equation 2).
 
     The heading used for the translation is the one at the start of the step, exactly as the
     lab text writes it.
     """
-    return (x + v * dt * np.cos(theta),
-            y + v * dt * np.sin(theta),
-            wrap_angle(theta + omega * dt))
+    return (x + v * dt * math.cos(theta), y + v * dt * math.sin(theta),
+            wrap(theta + omega * dt))
 
 
-def arc_step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
-             dt: ArrayLike) -> tuple:
+@njit(cache=True)
+def arc_pose(x: float, y: float, theta: float, v: float, omega: float, dt: float) -> tuple:
     """
     Advance by dt along the exact constant-velocity arc.
 
-    The chord has length v*dt*sinc(omega*dt/2) and points along the mean heading, which stays
-    finite as omega goes to zero, so straight lines need no special case.
+    The chord has length v*dt*sin(h)/h, h being half the turn, and points along the mean
+    heading; it is v*dt itself without a turn, so straight lines need no other case.
     """
     half_turn = 0.5 * omega * dt
-    chord = v * dt * np.sinc(half_turn / np.pi)
+    chord = v * dt * (math.sin(half_turn) / half_turn if half_turn != 0.0 else 1.0)
     mid_heading = theta + half_turn
-    return (x + chord * np.cos(mid_heading),
-            y + chord * np.sin(mid_heading),
-            wrap_angle(theta + omega * dt))
+    return (x + chord * math.cos(mid_heading), y + chord * math.sin(mid_heading),
+            wrap(theta + omega * dt))
 
 
-def euler_step_one(x: float, y: float, theta: float, v: float, omega: float,
-                   dt: float) -> tuple[float, float, float]:
-    """Advance one robot as euler_step does."""
-    return (x + v * dt * math.cos(theta),
-            y + v * dt * math.sin(theta),
-            wrap_angle(theta + omega * dt))
+@njit(cache=True)
+def integrate(x: float, y: float, theta: float, v: float, omega: float, dt: float,
+              arc: bool) -> tuple:
+    """Advance one body by the integrator chosen: the arc's if arc, else Euler's."""
+    if arc:
+        return arc_pose(x, y, theta, v, omega, dt)
+    return euler_pose(x, y, theta, v, omega, dt)
 
 
-def arc_step_one(x: float, y: float, theta: float, v: float, omega: float,
-                 dt: float) -> tuple[float, float, float]:
-    """Advance one robot as arc_step does (numpy's sinc: sin(pi t) / (pi t), 1 at 0)."""
-    half_turn = 0.5 * omega * dt
-    scaled = math.pi * (half_turn / math.pi if half_turn != 0.0 else 1e-20)
-    chord = v * dt * (math.sin(scaled) / scaled)
-    mid_heading = theta + half_turn
-    return (x + chord * math.cos(mid_heading),
-            y + chord * math.sin(mid_heading),
-            wrap_angle(theta + omega * dt))
+_SIGNATURE = ['void(f8, f8, f8, f8, f8, f8, f8[:], f8[:], f8[:])']
+_LAYOUT = '(),(),(),(),(),()->(),(),()'
+
+
+@guvectorize(_SIGNATURE, _LAYOUT, cache=True)
+def euler_step(x, y, theta, v, omega, dt, new_x, new_y, new_theta):  # noqa: D103
+    new_x[0], new_y[0], new_theta[0] = euler_pose(x, y, theta, v, omega, dt)
+
+
+@guvectorize(_SIGNATURE, _LAYOUT, cache=True)
+def arc_step(x, y, theta, v, omega, dt, new_x, new_y, new_theta):  # noqa: D103
+    new_x[0], new_y[0], new_theta[0] = arc_pose(x, y, theta, v, omega, dt)
 
 
 INTEGRATORS = {EULER: euler_step, ARC: arc_step}
-INTEGRATORS_ONE = {EULER: euler_step_one, ARC: arc_step_one}

@@ -28,10 +28,13 @@ from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.sensing import Sensing
 from stdr_lite.core.state import WorldState
 from stdr_lite.core.terrain import survey, Terrain
-from stdr_lite.core.world import FEW_BODIES, PlacementError, World
+from stdr_lite.core.world import PlacementError, World
 
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
+# Up to this many robots, command_robots commands each as command() does: for so few, that
+# costs less than gathering the rows (both apply the same limits, commands.py).
+FEW_ROBOTS = 8
 
 
 class Simulation(SimulationReadings):
@@ -197,7 +200,7 @@ class Simulation(SimulationReadings):
         """
         rows = self.state.robot_rows
         lateral = np.zeros(len(rows)) if lateral is None else lateral
-        if len(rows) <= FEW_BODIES:
+        if len(rows) <= FEW_ROBOTS:
             for row, values in zip(rows.tolist(), zip(linear.tolist(), angular.tolist(),
                                                       lateral.tolist())):
                 self.command(self.state.entities[row].name, *values)

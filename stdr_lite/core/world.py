@@ -1,26 +1,22 @@
-"""The simulated world: bodies moving in one map and meeting, stepped together with numpy."""
+"""The simulated world: bodies moving in one map and meeting, stepped in one compiled pass."""
 
 import math
 
+from numba import njit
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
-from simple_robot_control.pose import wrap_angle
-from stdr_lite.core.collision import FootprintChecker
+from stdr_lite.core.collision import circle_touches, clear_at, FootprintChecker
 from stdr_lite.core.contacts import moving_into_others, overlapped
 from stdr_lite.core.entities import SimulatedEntity
-from stdr_lite.core.kinematics import INTEGRATORS, INTEGRATORS_ONE
+from stdr_lite.core.kinematics import integrate, INTEGRATORS, wrap
+from stdr_lite.core.setting_values import ARC
 from stdr_lite.core.state import WorldState
 
 # Sampling the path so that no point of a footprint moves more than a quarter cell between
 # samples bounds the depth by which it could clip a corner between two samples to
 # spacing**2 / (8 * radius) for a circle: 0.1 mm for the defaults.
 SAMPLES_PER_CELL = 4
-PATH_POINTS_PER_BATCH = 1 << 16
-# Up to this many bodies a step goes body by body in plain Python, which for so few costs less
-# than numpy's per-call overhead; both ways give the same poses to the last bit.
-FEW_BODIES = 8
-REMEMBERED_STEPS = 1024
 
 
 class PlacementError(ValueError):
@@ -53,9 +49,8 @@ class World:
                              f'got {integrator!r}')
         self.map = occupancy_map
         self.checker = checker or FootprintChecker(occupancy_map, max_radius)
-        self._advance = INTEGRATORS[integrator]
-        self._advance_one = INTEGRATORS_ONE[integrator]
-        self._blocked_steps = {}
+        self._integrator = INTEGRATORS[integrator]
+        self._arc = integrator == ARC
         self._sample_spacing = occupancy_map.resolution / SAMPLES_PER_CELL
         self.state = WorldState() if state is None else state
 
@@ -138,130 +133,96 @@ class World:
         A robot drives at linear along its heading and at lateral (an omni robot's, else
         none) to its left, while turning at angular. A body with a travel heading (NaN for
         none) slides at linear along that fixed world direction while spinning at angular on
-        the spot, as a moving obstacle does.
+        the spot, as a moving obstacle does. Compiled in one pass over the bodies (numba), but
+        for polygons near a wall and the depths of polygons in contact, weighed in numpy and
+        shapely.
         """
-        linear = np.asarray(linear, dtype=float)
-        angular = np.asarray(angular, dtype=float)
-        theta = self.poses[:, 2]
-        heading, speed, turn = _translations(theta, linear, angular, travel_headings, lateral)
-        if self.body_count <= FEW_BODIES:
-            return self._step_few(heading, speed, turn, angular, dt)
-        x, y = self.poses[:, 0], self.poses[:, 1]
-        moves = ~self._blocked(np.arange(self.body_count), dt, x, y, heading, speed, turn,
-                               theta, angular)
-        new_x, new_y, _ = self._advance(x, y, heading, speed, turn, dt)
-        new_poses = np.column_stack([new_x, new_y, wrap_angle(theta + angular * dt)])
-        if self.bodies_meet:
+        count = self.body_count
+        linear, angular = _column(linear, count), _column(angular, count)
+        lateral = _column(0.0 if lateral is None else lateral, count)
+        travel = _column(np.nan if travel_headings is None else travel_headings, count)
+        new_poses, motion, verdict = _advance(
+            self.poses, self.radii, self.state.polygonal, linear, lateral, angular, travel,
+            float(dt), self._arc, self._sample_spacing, *self.checker.grid)
+        moves = verdict == MOVES
+        for index in np.flatnonzero(verdict == POLYGON_NEAR_WALL):
+            moves[index] = not self._polygon_blocked(index, motion[index], angular[index], dt)
+        if self.bodies_meet and count > 1:
+            changes = (motion[:, 1] != 0.0) | (self.state.polygonal & (angular != 0.0))
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
-                                         self.state.polygonal,
-                                         moves & self._changes_footprint(speed, angular))
+                                         self.state.polygonal, moves & changes)
         self.state.pose = np.where(moves[:, None], new_poses, self.poses)
         return moves
 
-    def _changes_footprint(self, speed, angular):
-        """Whether each body's step moves its footprint: a circle's turn does not."""
-        return (speed != 0.0) | (self.state.polygonal & (angular != 0.0))
-
-    def _step_few(self, heading, speed, turn, angular, dt):
-        """Take the same step as the vectorised code, one body at a time."""
-        bodies = zip(self.poses.tolist(), heading.tolist(), speed.tolist(), turn.tolist(),
-                     angular.tolist(), self.radii.tolist(), self.shapes)
-        ends, moves = [], []
-        for index, ((x, y, theta), direction, v, bend, omega, radius, shape) in enumerate(bodies):
-            end = self._advance_one(x, y, direction, v, bend, dt)
-            ends.append((end[0], end[1], wrap_angle(theta + omega * dt)))
-            still = v == 0.0 and (shape is None or omega == 0.0)
-            moves.append(still or self.checker.clear_for_motion_one(x, y, abs(v) * dt, radius)
-                         or not self._wall_blocks_one(index, (x, y, direction, v, bend, theta,
-                                                              omega), dt))
-        moves = np.array(moves, dtype=bool)
-        new_poses = np.array(ends, dtype=float).reshape(-1, 3)
-        if self.body_count > 1 and self.bodies_meet:
-            moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
-                                         self.state.polygonal,
-                                         moves & self._changes_footprint(speed, angular))
-        self.state.pose = np.where(moves[:, None], new_poses, self.poses)
-        return moves
-
-    def _blocked(self, bodies, dt, x, y, heading, speed, turn, theta, angular):
+    def _polygon_blocked(self, index, motion, angular, dt):
         """
-        Check the footprint along the path of each of bodies moving near a wall.
+        Check a polygon's footprint along its path near a wall.
 
-        The other arguments hold one value per body of bodies. Each path is sampled so that
-        no point of the footprint moves more than a quarter cell between samples, from its
-        start; circles go together in batches of points so memory stays bounded whatever the
-        speed, and a body is dropped from later batches once it is blocked. Polygons, each of
-        its own shape, go one at a time.
+        The path is sampled so that no point of the footprint moves more than a quarter cell
+        between samples, from its start; its turn sweeps its corners too.
         """
-        radii, polygonal = self.radii[bodies], self.state.polygonal[bodies]
-        blocked = np.zeros(len(bodies), dtype=bool)
-        step_length = np.abs(speed) * dt
-        moving = (speed != 0.0) | (polygonal & (angular != 0.0))
-        clear = self.checker.clear_for_motion(x, y, step_length, radii)
-        suspect = np.flatnonzero(moving & ~clear)
-        for index in suspect[polygonal[suspect]]:
-            sweep = step_length[index] + abs(angular[index]) * dt * radii[index]
-            fractions = np.arange(1, max(1, math.ceil(sweep / self._sample_spacing)) + 1)
-            fractions = fractions / fractions[-1]
-            path_x, path_y, _ = self._advance(x[index], y[index], heading[index], speed[index],
-                                              turn[index], dt * fractions)
-            blocked[index] = self.checker.polygon_touches(
-                path_x, path_y, theta[index] + angular[index] * dt * fractions,
-                self.shapes[bodies[index]]).any()
-        suspect = suspect[~polygonal[suspect]]
-        if suspect.size == 0:
-            return blocked
-        samples = np.maximum(1, np.ceil(step_length[suspect] / self._sample_spacing))
-        first = 1
-        while suspect.size and first <= samples.max():
-            count = max(1, PATH_POINTS_PER_BATCH // suspect.size)
-            taken = np.arange(first, min(first + count, samples.max() + 1))
-            fractions = taken[None, :] / samples[:, None]
-            index = suspect[:, None]
-            path_x, path_y, _ = self._advance(x[index], y[index], heading[index], speed[index],
-                                              turn[index], dt * fractions)
-            hit = np.any(self.checker.touches(path_x, path_y, radii[index])
-                         & (fractions <= 1.0), axis=1)
-            blocked[suspect[hit]] = True
-            suspect, samples = suspect[~hit], samples[~hit]
-            first += count
-        return blocked
-
-    def _wall_blocks_one(self, index, motion, dt):
-        """
-        Whether walls block one body's step, remembered for the pose, motion and footprint.
-
-        A body pushing against a wall asks the same question step after step: the answer,
-        which depends on nothing else, is looked up instead of worked out again.
-        """
-        key = (*motion, dt, self.radii[index], self.shapes[index])
-        blocked = self._blocked_steps.get(key)
-        if blocked is None:
-            blocked = bool(self._blocked(np.array([index]), dt,
-                                         *(np.array([value]) for value in motion))[0])
-            if len(self._blocked_steps) >= REMEMBERED_STEPS:
-                self._blocked_steps.clear()
-            self._blocked_steps[key] = blocked
-        return blocked
+        heading, speed, turn = motion
+        x, y, theta = self.poses[index]
+        radius = self.radii[index]
+        sweep = abs(speed) * dt + abs(angular) * dt * radius
+        fractions = np.arange(1, max(1, math.ceil(sweep / self._sample_spacing)) + 1)
+        fractions = fractions / fractions[-1]
+        path_x, path_y, _ = self._integrator(x, y, heading, speed, turn, dt * fractions)
+        return bool(self.checker.polygon_touches(path_x, path_y, theta + angular * dt * fractions,
+                                                 self.shapes[index]).any())
 
 
-def _translations(theta, linear, angular, travel_headings, lateral):
+def _column(values, count):
+    """Return values (one, or one per body) as a contiguous column of count floats."""
+    column = np.asarray(values, dtype=float)
+    return np.ascontiguousarray(column if column.shape == (count,) else np.full(count, column))
+
+
+# What the compiled step makes of each body: it moves, walls block it, or it is a polygon near
+# a wall that the World weighs (polygon_touches).
+MOVES, BLOCKED, POLYGON_NEAR_WALL = 0, 1, 2
+
+
+@njit(cache=True)
+def _advance(poses, radii, polygonal, linear, lateral, angular, travel, dt, arc, sample_spacing,
+             *grid):
     """
-    Return each body's translation as a unicycle's: its direction, speed and turn rate.
+    Return every body's pose after dt, its translation (heading, speed, turn) and verdict.
 
     An omni robot's sideways part turns the direction of travel off its heading; a sliding
-    body keeps its travel heading and does not turn while it translates.
+    body (a travel heading, not NaN) keeps that direction and does not turn while it
+    translates. A circle near a wall is checked along its path, sampled so that no point of it
+    moves more than sample_spacing between samples; a circle's turn on the spot never moves it.
     """
-    heading, speed, turn = theta, linear, angular
-    if lateral is not None:
-        lateral = np.asarray(lateral, dtype=float)
-        sideways = lateral != 0.0
-        if sideways.any():
-            heading = np.where(sideways, theta + np.arctan2(lateral, linear), theta)
-            speed = np.where(sideways, np.hypot(linear, lateral), linear)
-    if travel_headings is not None:
-        travel_headings = np.asarray(travel_headings, dtype=float)
-        sliding = ~np.isnan(travel_headings)
-        heading = np.where(sliding, travel_headings, heading)
-        turn = np.where(sliding, 0.0, angular)
-    return heading, speed, turn
+    count = radii.size
+    new_poses = np.empty((count, 3))
+    motion = np.empty((count, 3))
+    verdict = np.full(count, MOVES, dtype=np.int8)
+    for body in range(count):
+        x, y, theta = poses[body, 0], poses[body, 1], poses[body, 2]
+        heading, speed, turn = theta, linear[body], angular[body]
+        if lateral[body] != 0.0:
+            heading = theta + math.atan2(lateral[body], linear[body])
+            speed = math.hypot(linear[body], lateral[body])
+        if not math.isnan(travel[body]):
+            heading, turn = travel[body], 0.0
+        motion[body, 0], motion[body, 1], motion[body, 2] = heading, speed, turn
+        new_poses[body, 0], new_poses[body, 1], _ = integrate(x, y, heading, speed, turn, dt,
+                                                              arc)
+        new_poses[body, 2] = wrap(theta + angular[body] * dt)
+        step_length = abs(speed) * dt
+        if not (speed != 0.0 or (polygonal[body] and angular[body] != 0.0)):
+            continue
+        if clear_at(grid, x, y, step_length + radii[body]):
+            continue
+        if polygonal[body]:
+            verdict[body] = POLYGON_NEAR_WALL
+            continue
+        samples = max(1, math.ceil(step_length / sample_spacing))
+        for sample in range(1, samples + 1):
+            path_x, path_y, _ = integrate(x, y, heading, speed, turn, dt * (sample / samples),
+                                          arc)
+            if circle_touches(grid, path_x, path_y, radii[body]):
+                verdict[body] = BLOCKED
+                break
+    return new_poses, motion, verdict
