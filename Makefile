@@ -65,10 +65,11 @@ train: install
 demo-policy: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller LOCKSTEP=false scripts/demo.sh
 
-# In-process tests import the package from this tree: its compiled core (stdr_lite/core/warm_up.py)
-# goes into the tree's numba cache first (as install does for the installed copy), not in the
-# middle of a test.
-WARM_COMPILED := -c 'from stdr_lite.core.warm_up import compile_core; compile_core()'
+# In-process tests import the package from this tree: its compiled code (the simulator's core, the
+# learning task's passes) goes into the tree's numba cache first (as install does for the
+# installed copy), not in the middle of a test.
+WARM_COMPILED := -c 'from stdr_lite.core.warm_up import compile_core; compile_core(); \
+	from waypoint_lab.learning.task import compile_task; compile_task()'
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)

@@ -10,10 +10,11 @@ instants. Headings are wrapped by the one rule of simple_robot_control.pose, com
 import math
 
 from numba import guvectorize, njit
+from simple_robot_control.compiled_rules import compiled
 from simple_robot_control.pose import wrap_number
 from stdr_lite.core.setting_values import ARC, EULER
 
-wrap = njit(cache=True)(wrap_number)
+wrap = compiled(wrap_number)
 
 
 @njit(cache=True)

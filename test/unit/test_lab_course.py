@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis.strategies import floats
 import numpy as np
 from simple_robot_control.pose import wrap_angle
-from waypoint_lab.course import goal_errors, in_goal_set
+from waypoint_lab.course import goal_error, goal_errors, in_goal_set
 from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE
 from waypoint_lab.waypoints import Waypoint
 
@@ -28,6 +28,7 @@ def test_one_pose_at_a_time_and_rows_of_poses_agree():
     assert rows.tolist() == one_by_one and any(one_by_one) and not all(one_by_one)
     distance, heading = goal_errors(poses, goal)
     assert np.all(heading <= math.pi) and np.allclose(distance, np.hypot(*poses[:, :2].T))
+    assert [goal_error(*pose, *goal) for pose in poses] == list(zip(distance, heading))
 
 
 @given(floats(-1e4, 1e4))

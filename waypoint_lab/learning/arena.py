@@ -17,7 +17,8 @@ from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.world import PlacementError
 from waypoint_lab.learning import checks
-from waypoint_lab.learning.task import Courses, observe, sample_course, TaskSettings
+from waypoint_lab.learning.task import (Courses, GOAL_FEATURES, observe, sample_course,
+                                        TaskSettings)
 from waypoint_lab.rules import START
 
 
@@ -59,6 +60,8 @@ class Arena:
         self._radius = description.radius
         self._clearance = task.clearance + description.radius
         self.ranges = np.full((count, task.laser_rays), np.inf)
+        self._limits = np.array([task.max_linear_speed, task.max_angular_speed])
+        self._observations = np.zeros((count, task.laser_rays + GOAL_FEATURES), dtype=np.float32)
         self._poses = None
 
     @property
@@ -130,18 +133,25 @@ class Arena:
 
         actions (a row a robot) were checked by the environment that took them.
         """
-        actions = np.asarray(actions, dtype=float)
-        limits = np.array([self.task.max_linear_speed, self.task.max_angular_speed])
-        actions = np.clip(actions, -limits, limits)
+        actions = np.minimum(np.maximum(actions, -self._limits), self._limits)
         self.simulation.command_robots(actions[:, 0], actions[:, 1])
 
     def step(self) -> tuple:
-        """Step the world once; return (reward, reached a waypoint, finished) per robot."""
+        """
+        Step the world once; return (reward, reached a waypoint, finished) per robot.
+
+        The arrays are the courses' own, overwritten by the next step: keep a copy.
+        """
         self.simulation.step()
         self._poses = self.simulation.robot_poses()
         return self.courses.update(self._poses, self.simulation.robots_stalled())
 
     def observations(self) -> np.ndarray:
-        """Return every robot's observation (see course.observe)."""
+        """
+        Return every robot's observation (see task.observe).
+
+        The array is the arena's own, overwritten by the next call: keep a copy.
+        """
         self.ranges = self.simulation.read_lasers(self.names, self.laser)
-        return observe(self.ranges, self.laser.max_range, self.poses, self.courses.goals)
+        return observe(self.ranges, self.laser.max_range, self.poses, self.courses.goals,
+                       self._observations)

@@ -76,7 +76,7 @@ class WaypointsParallelEnv(ParallelEnv):
         self._steps = 0
         observations = self.arena.observations()
         reached = np.zeros(len(self.possible_agents), dtype=bool)
-        return ({agent: observations[self._index[agent]] for agent in self.agents},
+        return ({agent: observations[self._index[agent]].copy() for agent in self.agents},
                 self._infos(reached))
 
     def step(self, actions):
@@ -98,7 +98,7 @@ class WaypointsParallelEnv(ParallelEnv):
         live = self.agents
         truncated = self._steps >= self.max_episode_steps
         result = (
-            {agent: observations[self._index[agent]] for agent in live},
+            {agent: observations[self._index[agent]].copy() for agent in live},
             {agent: float(reward[self._index[agent]]) for agent in live},
             {agent: bool(finished[self._index[agent]]) for agent in live},
             {agent: truncated and not finished[self._index[agent]] for agent in live},

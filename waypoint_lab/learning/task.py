@@ -2,8 +2,9 @@
 The lab's task, for learning: reach a course of goal sets, seen through a laser. No ROS here.
 
 Every function works on N robots at once (numpy arrays, one row a robot), so one environment
-and a vector of them share the rules to the last bit. The goal set is the lab's
-(waypoint_lab/course.py). The reward, per step:
+and a vector of them share the rules to the last bit; a step's judgement and the observation
+are each one compiled pass (numba) over the robots, into arrays allocated once. The goal set is
+the lab's (waypoint_lab/course.py). The reward, per step:
 
     progress   +1 per metre closer to the current waypoint
     turning    +0.5 per radian of heading error removed, once within d of it
@@ -17,8 +18,10 @@ An episode terminates when the last goal set is reached (the lab's FINISHED).
 from dataclasses import dataclass
 import math
 
+from numba import njit
 import numpy as np
-from waypoint_lab.course import goal_errors, in_goal_set
+from simple_robot_control.compiled_rules import compiled
+from waypoint_lab.course import goal_error, goal_errors
 from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
                                 MAX_LINEAR_SPEED)
 
@@ -53,28 +56,20 @@ class TaskSettings:
     random_start: bool = True
 
 
-def observe(ranges: np.ndarray, max_range: float, poses: np.ndarray,
-            goals: np.ndarray) -> np.ndarray:
+def observe(ranges: np.ndarray, max_range: float, poses: np.ndarray, goals: np.ndarray,
+            out: np.ndarray | None = None) -> np.ndarray:
     """
     Return observations, a row per robot: the laser, then the goal as the robot sees it.
 
     Ranges are taken as a LaserScan carries them (32-bit) and divided by max_range (no
     return, inf, reads 1; closer than min_range, -inf, reads 0); then the goal's distance (m,
     at most FAR), the cosine and sine of its bearing from the robot's heading, and of its
-    heading less the robot's.
+    heading less the robot's. out, if given, is filled (float32, a row per robot) and returned.
     """
-    rays = ranges.shape[1]
-    observation = np.empty((len(poses), rays + GOAL_FEATURES), dtype=np.float32)
-    # Ranges as a LaserScan carries them (float32), so that a scan gives the same bits.
-    np.clip(ranges.astype(np.float32) / np.float32(max_range), 0.0, 1.0,
-            out=observation[:, :rays])
-    dx, dy = goals[:, 0] - poses[:, 0], goals[:, 1] - poses[:, 1]
-    bearing = np.arctan2(dy, dx) - poses[:, 2]
-    turn = goals[:, 2] - poses[:, 2]
-    observation[:, rays] = np.minimum(np.hypot(dx, dy), FAR)
-    observation[:, rays + 1], observation[:, rays + 2] = np.cos(bearing), np.sin(bearing)
-    observation[:, rays + 3], observation[:, rays + 4] = np.cos(turn), np.sin(turn)
-    return observation
+    if out is None:
+        out = np.empty((len(poses), ranges.shape[1] + GOAL_FEATURES), dtype=np.float32)
+    _observe(ranges, float(max_range), poses, goals, out)
+    return out
 
 
 class Courses:
@@ -82,23 +77,25 @@ class Courses:
     The courses of N robots: their waypoints (N x K x 3) and which each goes for next.
 
     update() judges one step: it returns the reward, and which robots entered a goal set and
-    which finished their course.
+    which finished their course, in arrays of its own that the next update overwrites.
     """
 
     def __init__(self, waypoints: np.ndarray, settings: TaskSettings):
         self.waypoints = np.array(waypoints, dtype=float)
         self.settings = settings
-        self.next = np.zeros(len(self.waypoints), dtype=np.int64)
-        self._rows = np.arange(len(self.waypoints))
-        self._errors = self._goals = None
+        count = len(self.waypoints)
+        self.next = np.zeros(count, dtype=np.int64)
+        self._rows = np.arange(count)
+        # Each robot's distance and heading error as of the last step (NaN before start()).
+        self._errors = np.full((count, 2), np.nan)
+        self._reward = np.zeros(count)
+        self._reached = np.zeros(count, dtype=bool)
+        self._finished = np.zeros(count, dtype=bool)
 
     @property
     def goals(self) -> np.ndarray:
         """Return each robot's current waypoint (the last one once it has finished)."""
-        if self._goals is None:
-            index = np.minimum(self.next, self.waypoints.shape[1] - 1)
-            self._goals = self.waypoints[self._rows, index]
-        return self._goals
+        return self.waypoints[self._rows, np.minimum(self.next, self.waypoints.shape[1] - 1)]
 
     @property
     def finished(self) -> np.ndarray:
@@ -108,34 +105,79 @@ class Courses:
         """Give one robot a new course, from pose."""
         self.waypoints[robot] = waypoints
         self.next[robot] = 0
-        self._goals = None
-        if self._errors is not None:
-            distance, heading = goal_errors(pose[None, :], self.goals[[robot]])
-            self._errors[0][robot], self._errors[1][robot] = distance[0], heading[0]
+        self._errors[robot] = goal_error(*pose[:3], *self.waypoints[robot, 0])
 
     def start(self, poses: np.ndarray) -> None:
         """Note where the robots stand before their first step."""
-        self._errors = goal_errors(poses, self.goals)
+        distance, heading = goal_errors(poses, self.goals)
+        self._errors[:, 0], self._errors[:, 1] = distance, heading
 
     def update(self, poses: np.ndarray, stalled: np.ndarray) -> tuple:
         """Judge a step to poses; return (reward, reached a waypoint, finished the course)."""
-        settings = self.settings
-        running = self.next < self.waypoints.shape[1]
-        before_distance, before_heading = self._errors
-        distance, heading = goal_errors(poses, self.goals)
-        near = distance <= settings.distance_tolerance
-        reward = (PROGRESS * (before_distance - distance)
-                  + TURNING * near * (before_heading - heading)
-                  - STALL * stalled - TIME)
-        reached = running & in_goal_set(poses, self.goals, settings.distance_tolerance,
-                                        settings.angle_tolerance)
-        reward = np.where(running, reward + WAYPOINT * reached, 0.0)
-        self._errors = distance, heading
-        if reached.any():
-            self.next = self.next + reached
-            self._goals = None
-            self._errors = goal_errors(poses, self.goals)
-        return reward, reached, reached & self.finished
+        _judge(np.ascontiguousarray(poses, dtype=float), np.asarray(stalled, dtype=bool),
+               self.waypoints, self.next, self._errors, self.settings.distance_tolerance,
+               self.settings.angle_tolerance, self._reward, self._reached, self._finished)
+        return self._reward, self._reached, self._finished
+
+
+def compile_task() -> None:
+    """Compile the task's passes into numba's cache (make install), not in a learner's run."""
+    courses = Courses(np.zeros((1, 1, 3)), TaskSettings(waypoints=1))
+    courses.start(np.zeros((1, 3)))
+    courses.update(np.zeros((1, 3)), np.zeros(1, dtype=bool))
+    observe(np.zeros((1, 4)), 1.0, np.zeros((1, 3)), courses.goals)
+
+
+_goal_error = compiled(goal_error)
+
+
+@njit(cache=True)
+def _observe(ranges, max_range, poses, goals, out):
+    rays = ranges.shape[1]
+    scale = np.float32(max_range)
+    for robot in range(poses.shape[0]):
+        for ray in range(rays):
+            # As a LaserScan carries it (float32), so that a scan gives the same bits.
+            value = np.float32(ranges[robot, ray]) / scale
+            out[robot, ray] = value if value != value else min(max(value, 0.0), 1.0)
+        x, y, theta = poses[robot, 0], poses[robot, 1], poses[robot, 2]
+        dx, dy = goals[robot, 0] - x, goals[robot, 1] - y
+        bearing = math.atan2(dy, dx) - theta
+        turn = goals[robot, 2] - theta
+        out[robot, rays] = min(math.hypot(dx, dy), FAR)
+        out[robot, rays + 1], out[robot, rays + 2] = math.cos(bearing), math.sin(bearing)
+        out[robot, rays + 3], out[robot, rays + 4] = math.cos(turn), math.sin(turn)
+
+
+@njit(cache=True)
+def _judge(poses, stalled, waypoints, next_waypoint, errors, distance_tolerance,
+           angle_tolerance, reward, reached, finished):
+    """
+    Judge every robot's step to poses (see the module): its reward, its goal set entered.
+
+    A robot that enters its goal set goes on to its next waypoint, whose errors are noted;
+    a robot past its last waypoint earns nothing more.
+    """
+    last = waypoints.shape[1] - 1
+    for robot in range(poses.shape[0]):
+        x, y, theta = poses[robot, 0], poses[robot, 1], poses[robot, 2]
+        running = next_waypoint[robot] <= last
+        goal = waypoints[robot, min(next_waypoint[robot], last)]
+        distance, heading = _goal_error(x, y, theta, goal[0], goal[1], goal[2])
+        near = 1.0 if distance <= distance_tolerance else 0.0
+        gain = (PROGRESS * (errors[robot, 0] - distance)
+                + TURNING * near * (errors[robot, 1] - heading)
+                - STALL * stalled[robot] - TIME)
+        hit = running and distance <= distance_tolerance and heading <= angle_tolerance
+        reward[robot] = gain + WAYPOINT * hit if running else 0.0
+        reached[robot] = hit
+        errors[robot, 0], errors[robot, 1] = distance, heading
+        if hit:
+            next_waypoint[robot] += 1
+            goal = waypoints[robot, min(next_waypoint[robot], last)]
+            errors[robot, 0], errors[robot, 1] = _goal_error(x, y, theta, goal[0], goal[1],
+                                                             goal[2])
+        finished[robot] = hit and next_waypoint[robot] > last
 
 
 def sample_course(rng: np.random.Generator, is_free, start: tuple, settings: TaskSettings,

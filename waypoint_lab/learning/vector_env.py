@@ -77,14 +77,15 @@ class WaypointsVectorEnv(VectorEnv):
         self.arena.courses.start(self.arena.poses)
         self._steps[:] = 0
         self._ended[:] = False
-        return self.arena.observations(), self._infos()
+        return self.arena.observations().copy(), self._infos()
 
     def step(self, actions):
         actions = checks.numbers('actions', actions, (self.num_envs, 2))
         restarting = self._ended.copy()
         actions[restarting] = 0.0
         self.arena.act(actions)
-        reward, reached, finished = self.arena.step()
+        # The arena's arrays are its own, overwritten by its next step: these go to the caller.
+        reward, reached, finished = (part.copy() for part in self.arena.step())
         for robot in np.flatnonzero(restarting):
             self._generators[robot].integers(2 ** 31)
             self.arena.restart(robot, self._generators[robot])
@@ -94,7 +95,7 @@ class WaypointsVectorEnv(VectorEnv):
         finished[restarting] = truncated[restarting] = False
         self._ended = finished | truncated
         infos = self._infos(reached & ~restarting)
-        observations = self.arena.observations()
+        observations = self.arena.observations().copy()
         if self.autoreset_mode is AutoresetMode.SAME_STEP and self._ended.any():
             observations, infos = self._reset_ended(observations, infos)
         return observations, reward, finished, truncated, infos
@@ -112,7 +113,7 @@ class WaypointsVectorEnv(VectorEnv):
         fresh = self._infos(infos['reached'] & ~ended)
         fresh.update({'final_obs': final_obs, '_final_obs': ended.copy(),
                       'final_info': infos, '_final_info': ended.copy()})
-        return self.arena.observations(), fresh
+        return self.arena.observations().copy(), fresh
 
     def _infos(self, reached=None):
         reached = np.zeros(self.num_envs, dtype=bool) if reached is None else reached

@@ -70,7 +70,7 @@ class WaypointsEnv(gym.Env):
         self.arena.restart(0, self.np_random, options)
         self.arena.courses.start(self.arena.poses)
         self._status = 'STARTED'
-        return self.arena.observations()[0], self._info(False)
+        return self.arena.observations()[0].copy(), self._info(False)
 
     def step(self, action):
         self.arena.act(checks.numbers('action', action, (2,))[None, :])
@@ -78,7 +78,7 @@ class WaypointsEnv(gym.Env):
         if reached[0]:
             number = int(self.arena.courses.next[0])
             self._status = 'FINISHED' if finished[0] else f'WAYPOINT {number}'
-        return (self.arena.observations()[0], float(reward[0]), bool(finished[0]), False,
+        return (self.arena.observations()[0].copy(), float(reward[0]), bool(finished[0]), False,
                 self._info(bool(reached[0])))
 
     def _info(self, reached):
