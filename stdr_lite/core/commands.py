@@ -77,13 +77,12 @@ class HeldCommands:
         self.state.command[index] = command
         self.state.commanded_at[index] = now
 
-    def current(self, now: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Commands in force at time now, as (linear, lateral, angular) arrays."""
-        commands = self.state.command
+    def current(self, now: float) -> np.ndarray:
+        """Return the commands in force at time now, a new (linear, lateral, angular) row each."""
         if self.timeout > 0.0:
-            commands = np.where(((now - self.state.commanded_at) <= self.timeout)[:, None],
-                                commands, 0.0)
-        return commands[:, 0].copy(), commands[:, 1].copy(), commands[:, 2].copy()
+            return np.where(((now - self.state.commanded_at) <= self.timeout)[:, None],
+                            self.state.command, 0.0)
+        return self.state.command.copy()
 
 
 @njit(cache=True)

@@ -240,16 +240,18 @@ class Simulation(SimulationReadings):
 
     def step(self) -> None:
         """Advance every entity by dt: robots under their held commands, obstacles as set."""
-        linear, lateral, angular = self.commands.current(self.sim_time)
-        motion = self.state.motion
-        sliding = ~np.isnan(motion[:, 2])
+        velocities = self.commands.current(self.sim_time)
         headings = None
-        if sliding.any():
-            linear = np.where(sliding, motion[:, 0], linear)
-            angular = np.where(sliding, motion[:, 1], angular)
-            headings = motion[:, 2]
-        moved = self.world.step(linear, angular, self.dt, headings, lateral)
-        self.state.stepped(moved, np.column_stack([linear, lateral, angular]))
+        if len(self.state.robot_rows) < len(self.state):
+            motion = self.state.motion
+            sliding = ~np.isnan(motion[:, 2])
+            if sliding.any():
+                velocities[sliding, 0] = motion[sliding, 0]
+                velocities[sliding, 2] = motion[sliding, 1]
+                headings = motion[:, 2]
+        moved = self.world.step(velocities[:, 0], velocities[:, 2], self.dt, headings,
+                                velocities[:, 1])
+        self.state.stepped(moved, velocities)
         if self.odometer.noise.enabled:
             self.odometer.advance(self.dt)
         self.step_count += 1

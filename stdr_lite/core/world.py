@@ -51,6 +51,9 @@ class World:
         self.checker = checker or FootprintChecker(occupancy_map, max_radius)
         self._integrator = INTEGRATORS[integrator]
         self._arc = integrator == ARC
+        # What a step works out for each body (see _advance), allocated again only when the
+        # number of bodies changes.
+        self._step_rows, self._moves = np.empty((0, 7)), np.empty(0, dtype=bool)
         self._sample_spacing = occupancy_map.resolution / SAMPLES_PER_CELL
         self.state = WorldState() if state is None else state
 
@@ -141,18 +144,23 @@ class World:
         linear, angular = _column(linear, count), _column(angular, count)
         lateral = _column(0.0 if lateral is None else lateral, count)
         travel = _column(np.nan if travel_headings is None else travel_headings, count)
-        new_poses, motion, verdict = _advance(
+        if self._step_rows.shape[0] != count:
+            self._step_rows, self._moves = np.empty((count, 7)), np.empty(count, dtype=bool)
+        new_poses, motion, moves = self._step_rows[:, :3], self._step_rows[:, 3:6], self._moves
+        polygons_near_walls = _advance(
             self.poses, self.radii, self.state.polygonal, linear, lateral, angular, travel,
-            float(dt), self._arc, self._sample_spacing, *self.checker.grid)
-        moves = verdict == MOVES
-        for index in np.flatnonzero(verdict == POLYGON_NEAR_WALL):
-            moves[index] = not self._polygon_blocked(index, motion[index], angular[index], dt)
+            float(dt), self._arc, self._sample_spacing, self._step_rows, moves,
+            *self.checker.grid)
+        if polygons_near_walls:
+            for index in np.flatnonzero(self._step_rows[:, 6] == POLYGON_NEAR_WALL):
+                moves[index] = not self._polygon_blocked(index, motion[index], angular[index],
+                                                         dt)
         if self.bodies_meet and count > 1:
             changes = (motion[:, 1] != 0.0) | (self.state.polygonal & (angular != 0.0))
             moves &= ~moving_into_others(self.poses, new_poses, self.radii, self.shapes,
                                          self.state.polygonal, moves & changes)
         self.state.pose = np.where(moves[:, None], new_poses, self.poses)
-        return moves
+        return moves.copy()
 
     def _polygon_blocked(self, index, motion, angular, dt):
         """
@@ -185,20 +193,20 @@ MOVES, BLOCKED, POLYGON_NEAR_WALL = 0, 1, 2
 
 @njit(cache=True)
 def _advance(poses, radii, polygonal, linear, lateral, angular, travel, dt, arc, sample_spacing,
-             *grid):
+             rows, moves, *grid):
     """
-    Return every body's pose after dt, its translation (heading, speed, turn) and verdict.
+    Work out every body's step; return how many are polygons near a wall, left to the caller.
 
-    An omni robot's sideways part turns the direction of travel off its heading; a sliding
-    body (a travel heading, not NaN) keeps that direction and does not turn while it
-    translates. A circle near a wall is checked along its path, sampled so that no point of it
-    moves more than sample_spacing between samples; a circle's turn on the spot never moves it.
+    Each body's row of rows gets its pose after dt, its translation (heading, speed, turn)
+    and its verdict (MOVES, BLOCKED, POLYGON_NEAR_WALL); moves whether it moves (a polygon
+    near a wall does, unless the caller finds otherwise). An omni robot's sideways part turns
+    the direction of travel off its heading; a sliding body (a travel heading, not NaN) keeps
+    that direction and does not turn while it translates. A circle near a wall is checked along
+    its path, sampled so that no point of it moves more than sample_spacing between samples; a
+    circle's turn on the spot never moves it.
     """
-    count = radii.size
-    new_poses = np.empty((count, 3))
-    motion = np.empty((count, 3))
-    verdict = np.full(count, MOVES, dtype=np.int8)
-    for body in range(count):
+    polygons_near_walls = 0
+    for body in range(radii.size):
         x, y, theta = poses[body, 0], poses[body, 1], poses[body, 2]
         heading, speed, turn = theta, linear[body], angular[body]
         if lateral[body] != 0.0:
@@ -206,23 +214,29 @@ def _advance(poses, radii, polygonal, linear, lateral, angular, travel, dt, arc,
             speed = math.hypot(linear[body], lateral[body])
         if not math.isnan(travel[body]):
             heading, turn = travel[body], 0.0
-        motion[body, 0], motion[body, 1], motion[body, 2] = heading, speed, turn
-        new_poses[body, 0], new_poses[body, 1], _ = integrate(x, y, heading, speed, turn, dt,
-                                                              arc)
-        new_poses[body, 2] = wrap(theta + angular[body] * dt)
-        step_length = abs(speed) * dt
-        if not (speed != 0.0 or (polygonal[body] and angular[body] != 0.0)):
-            continue
-        if clear_at(grid, x, y, step_length + radii[body]):
-            continue
-        if polygonal[body]:
-            verdict[body] = POLYGON_NEAR_WALL
-            continue
-        samples = max(1, math.ceil(step_length / sample_spacing))
-        for sample in range(1, samples + 1):
-            path_x, path_y, _ = integrate(x, y, heading, speed, turn, dt * (sample / samples),
-                                          arc)
-            if circle_touches(grid, path_x, path_y, radii[body]):
-                verdict[body] = BLOCKED
-                break
-    return new_poses, motion, verdict
+        rows[body, 0], rows[body, 1], _ = integrate(x, y, heading, speed, turn, dt, arc)
+        rows[body, 2] = wrap(theta + angular[body] * dt)
+        rows[body, 3], rows[body, 4], rows[body, 5] = heading, speed, turn
+        rows[body, 6] = _verdict(grid, x, y, heading, speed, turn, angular[body], radii[body],
+                                 polygonal[body], dt, arc, sample_spacing)
+        moves[body] = rows[body, 6] != BLOCKED
+        polygons_near_walls += rows[body, 6] == POLYGON_NEAR_WALL
+    return polygons_near_walls
+
+
+@njit(cache=True)
+def _verdict(grid, x, y, heading, speed, turn, angular, radius, polygonal, dt, arc,
+             sample_spacing):
+    step_length = abs(speed) * dt
+    if not (speed != 0.0 or (polygonal and angular != 0.0)):
+        return MOVES
+    if clear_at(grid, x, y, step_length + radius):
+        return MOVES
+    if polygonal:
+        return POLYGON_NEAR_WALL
+    samples = max(1, math.ceil(step_length / sample_spacing))
+    for sample in range(1, samples + 1):
+        path_x, path_y, _ = integrate(x, y, heading, speed, turn, dt * (sample / samples), arc)
+        if circle_touches(grid, path_x, path_y, radius):
+            return BLOCKED
+    return MOVES

@@ -13,7 +13,7 @@ def held(robots, *limits, **options):
 def test_commands_are_held_until_replaced():
     commands = held(2, 1.0, 2.0)
     commands.update(1, (0.5, 0.1, -0.25), now=0.0)
-    linear, lateral, angular = commands.current(now=1000.0)
+    linear, lateral, angular = commands.current(now=1000.0).T
     assert linear.tolist() == [0.0, 0.5]
     assert lateral.tolist() == [0.0, 0.1]
     assert angular.tolist() == [0.0, -0.25]
@@ -40,5 +40,5 @@ def test_without_limits_commands_go_as_given_short_of_the_safety_bound():
 def test_timeout_stops_a_robot_with_a_stale_command():
     commands = held(1, 1.0, 2.0, timeout=0.5)
     commands.update(0, (0.3, 0.0, 0.1), now=2.0)
-    assert [array[0] for array in commands.current(2.5)] == [0.3, 0.0, 0.1]
-    assert [array[0] for array in commands.current(2.51)] == [0.0, 0.0, 0.0]
+    assert commands.current(2.5)[0].tolist() == [0.3, 0.0, 0.1]
+    assert commands.current(2.51)[0].tolist() == [0.0, 0.0, 0.0]

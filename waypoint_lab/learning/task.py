@@ -91,11 +91,15 @@ class Courses:
         self._reward = np.zeros(count)
         self._reached = np.zeros(count, dtype=bool)
         self._finished = np.zeros(count, dtype=bool)
+        self._goals = None
 
     @property
     def goals(self) -> np.ndarray:
         """Return each robot's current waypoint (the last one once it has finished)."""
-        return self.waypoints[self._rows, np.minimum(self.next, self.waypoints.shape[1] - 1)]
+        if self._goals is None:
+            self._goals = self.waypoints[self._rows,
+                                         np.minimum(self.next, self.waypoints.shape[1] - 1)]
+        return self._goals
 
     @property
     def finished(self) -> np.ndarray:
@@ -105,6 +109,7 @@ class Courses:
         """Give one robot a new course, from pose."""
         self.waypoints[robot] = waypoints
         self.next[robot] = 0
+        self._goals = None
         self._errors[robot] = goal_error(*pose[:3], *self.waypoints[robot, 0])
 
     def start(self, poses: np.ndarray) -> None:
@@ -114,9 +119,10 @@ class Courses:
 
     def update(self, poses: np.ndarray, stalled: np.ndarray) -> tuple:
         """Judge a step to poses; return (reward, reached a waypoint, finished the course)."""
-        _judge(np.ascontiguousarray(poses, dtype=float), np.asarray(stalled, dtype=bool),
-               self.waypoints, self.next, self._errors, self.settings.distance_tolerance,
-               self.settings.angle_tolerance, self._reward, self._reached, self._finished)
+        if _judge(np.ascontiguousarray(poses, dtype=float), np.asarray(stalled, dtype=bool),
+                  self.waypoints, self.next, self._errors, self.settings.distance_tolerance,
+                  self.settings.angle_tolerance, self._reward, self._reached, self._finished):
+            self._goals = None
         return self._reward, self._reached, self._finished
 
 
@@ -156,9 +162,10 @@ def _judge(poses, stalled, waypoints, next_waypoint, errors, distance_tolerance,
     Judge every robot's step to poses (see the module): its reward, its goal set entered.
 
     A robot that enters its goal set goes on to its next waypoint, whose errors are noted;
-    a robot past its last waypoint earns nothing more.
+    a robot past its last waypoint earns nothing more. Returns how many went on.
     """
     last = waypoints.shape[1] - 1
+    went_on = 0
     for robot in range(poses.shape[0]):
         x, y, theta = poses[robot, 0], poses[robot, 1], poses[robot, 2]
         running = next_waypoint[robot] <= last
@@ -173,11 +180,13 @@ def _judge(poses, stalled, waypoints, next_waypoint, errors, distance_tolerance,
         reached[robot] = hit
         errors[robot, 0], errors[robot, 1] = distance, heading
         if hit:
+            went_on += 1
             next_waypoint[robot] += 1
             goal = waypoints[robot, min(next_waypoint[robot], last)]
             errors[robot, 0], errors[robot, 1] = _goal_error(x, y, theta, goal[0], goal[1],
                                                              goal[2])
         finished[robot] = hit and next_waypoint[robot] > last
+    return went_on
 
 
 def sample_course(rng: np.random.Generator, is_free, start: tuple, settings: TaskSettings,
