@@ -15,9 +15,11 @@ With every coefficient zero the odometry is the true pose, exactly, whatever hap
 """
 
 from dataclasses import dataclass
+import math
 
+from numba import njit
 import numpy as np
-from simple_robot_control.pose import wrap_angle
+from stdr_lite.core.kinematics import wrap
 from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.state import WorldState
 
@@ -67,48 +69,23 @@ class Odometry:
         Measure the step just taken, in which each body moved at its applied velocity.
 
         Only drifting odometry is advanced: without noise the odometry is the true pose, which
-        the simulation reads as it is (readings.py), and nothing calls this.
+        the simulation reads as it is (readings.py), and nothing calls this. The draws come from
+        the odometry's own generator, in one order (forward, turn, then sideways if any body
+        moved sideways); the rest is one compiled pass over the bodies (_measure).
         """
         state = self.state
-        distance, sideways = state.applied[:, 0] * dt, state.applied[:, 1] * dt
-        turn = state.applied[:, 2] * dt
-        variance_distance = self.noise.distance ** 2 * np.abs(distance)
-        variance_sideways = self.noise.distance ** 2 * np.abs(sideways)
-        variance_turn = (self.noise.turn ** 2 * np.abs(turn)
-                         + self.noise.heading_per_distance ** 2 * (np.abs(distance)
-                                                                   + np.abs(sideways)))
-        count = len(turn)
-        distance = distance + np.sqrt(variance_distance) * self._rng.standard_normal(count)
-        turn = turn + np.sqrt(variance_turn) * self._rng.standard_normal(count)
-        if sideways.any():
-            sideways = sideways + np.sqrt(variance_sideways) * self._rng.standard_normal(count)
-        variances = np.column_stack([variance_distance, variance_sideways, variance_turn])
-        self._propagate(distance, sideways, turn, variances)
-        state.odometry_velocity = np.column_stack([distance, sideways, turn]) / dt
-        state.odometry_variance = variances / dt ** 2
-
-    def _propagate(self, distance, sideways, turn, variances):
-        """Integrate the measured step along its mean heading and carry the covariance along."""
-        state = self.state
-        heading = state.odometry_pose[:, 2] + 0.5 * turn
-        cos_heading, sin_heading = np.cos(heading), np.sin(heading)
-        step_x = distance * cos_heading - sideways * sin_heading
-        step_y = distance * sin_heading + sideways * cos_heading
-        count = len(distance)
-        motion = np.tile(np.eye(3), (count, 1, 1))
-        motion[:, 0, 2], motion[:, 1, 2] = -step_y, step_x
-        noise = np.zeros((count, 3, 3))
-        noise[:, 0, 0], noise[:, 1, 0] = cos_heading, sin_heading
-        noise[:, 0, 1], noise[:, 1, 1] = -sin_heading, cos_heading
-        noise[:, 0, 2], noise[:, 1, 2] = -0.5 * step_y, 0.5 * step_x
-        noise[:, 2, 2] = 1.0
-        spread = np.zeros((count, 3, 3))
-        spread[:, 0, 0], spread[:, 1, 1], spread[:, 2, 2] = variances.T
-        state.odometry_covariance = (motion @ state.odometry_covariance
-                                     @ motion.transpose(0, 2, 1)
-                                     + noise @ spread @ noise.transpose(0, 2, 1))
-        state.odometry_pose = state.odometry_pose + np.column_stack([step_x, step_y, turn])
-        state.odometry_pose[:, 2] = wrap_angle(state.odometry_pose[:, 2])
+        count = len(state)
+        draws = np.zeros((count, 3))
+        draws[:, 0] = self._rng.standard_normal(count)
+        draws[:, 2] = self._rng.standard_normal(count)
+        if state.applied[:, 1].any():
+            draws[:, 1] = self._rng.standard_normal(count)
+        for name in ('odometry_pose', 'odometry_covariance', 'odometry_velocity',
+                     'odometry_variance'):
+            setattr(state, name, getattr(state, name).copy())
+        _measure(state.applied, float(dt), self.noise.distance, self.noise.turn,
+                 self.noise.heading_per_distance, draws, state.odometry_pose,
+                 state.odometry_covariance, state.odometry_velocity, state.odometry_variance)
 
     def reading(self, index: int) -> OdometryReading:
         state = self.state
@@ -116,3 +93,60 @@ class Odometry:
         return OdometryReading((x, y, theta), tuple(state.odometry_velocity[index].tolist()),
                                state.odometry_covariance[index].copy(),
                                tuple(state.odometry_variance[index].tolist()))
+
+
+@njit(cache=True)
+def _measure(applied, dt, distance_noise, turn_noise, heading_noise, draws, pose, covariance,
+             velocity, variance):
+    """
+    Measure each body's step with noise and integrate it along its mean heading, in place.
+
+    The pose covariance P is carried along as M P M' + N V N', M the step's Jacobian in the
+    pose, N in the measured motion (forward, sideways, turn), V its variances.
+    """
+    for body in range(applied.shape[0]):
+        forward, sideways = applied[body, 0] * dt, applied[body, 1] * dt
+        turn = applied[body, 2] * dt
+        spread = np.empty(3)
+        spread[0] = distance_noise ** 2 * abs(forward)
+        spread[1] = distance_noise ** 2 * abs(sideways)
+        spread[2] = (turn_noise ** 2 * abs(turn)
+                     + heading_noise ** 2 * (abs(forward) + abs(sideways)))
+        forward += math.sqrt(spread[0]) * draws[body, 0]
+        sideways += math.sqrt(spread[1]) * draws[body, 1]
+        turn += math.sqrt(spread[2]) * draws[body, 2]
+        heading = pose[body, 2] + 0.5 * turn
+        cos_heading, sin_heading = math.cos(heading), math.sin(heading)
+        step_x = forward * cos_heading - sideways * sin_heading
+        step_y = forward * sin_heading + sideways * cos_heading
+        motion = np.eye(3)
+        motion[0, 2], motion[1, 2] = -step_y, step_x
+        noise = np.eye(3)
+        noise[0, 0], noise[1, 0], noise[0, 1], noise[1, 1] = (cos_heading, sin_heading,
+                                                              -sin_heading, cos_heading)
+        noise[0, 2], noise[1, 2] = -0.5 * step_y, 0.5 * step_x
+        carried = _sandwich(motion, covariance[body])
+        added = _sandwich(noise, np.diag(spread))
+        for row in range(3):
+            for column in range(3):
+                covariance[body, row, column] = carried[row, column] + added[row, column]
+        pose[body, 0] += step_x
+        pose[body, 1] += step_y
+        pose[body, 2] = wrap(pose[body, 2] + turn)
+        velocity[body, 0], velocity[body, 1], velocity[body, 2] = (forward / dt,
+                                                                   sideways / dt, turn / dt)
+        variance[body] = spread / dt ** 2
+
+
+@njit(cache=True)
+def _sandwich(outer, inner):
+    """Return outer @ inner @ outer.T, for 3 x 3 matrices."""
+    product = np.zeros((3, 3))
+    for row in range(3):
+        for column in range(3):
+            total = 0.0
+            for left in range(3):
+                for right in range(3):
+                    total += outer[row, left] * inner[left, right] * outer[column, right]
+            product[row, column] = total
+    return product

@@ -58,6 +58,7 @@ class Simulation(SimulationReadings):
         self._odometry_period_ns = (self.dt_ns if settings.odom_rate_hz <= 0.0
                                     else round(NANOSECONDS / settings.odom_rate_hz))
         self.sensing = Sensing(settings.bodies_meet, settings.sensor_seed)
+        self._kinds = (None, None)
         self._largest = max([LARGEST_ADDED_RADIUS] + [entry.description.radius
                                                       for entry in robots])
         self._rebuild(self.survey(occupancy_map), [])
@@ -206,16 +207,24 @@ class Simulation(SimulationReadings):
                 self.command(self.state.entities[row].name, *values)
             return
         commands = np.column_stack([linear, lateral, angular]).astype(float)
-        robots = [self.state.entities[row] for row in rows]
-        noisy = np.array([robot.motion_noise is not None for robot in robots], dtype=bool)
+        noisy, omni = self._robot_kinds()
         plain = np.isfinite(commands).all(axis=1) & ~noisy
         limited = self.commands.limited_rows(commands[plain])
-        omni = np.array([robot.description.kinematic.model == 'omni' for robot in robots],
-                        dtype=bool)
         limited[~omni[plain], 1] = 0.0
         self.commands.update_rows(rows[plain], limited, self.sim_time)
         for robot, values in zip(np.flatnonzero(noisy), commands[noisy].tolist()):
-            self.command(robots[robot].name, *values)
+            self.command(self.state.entities[rows[robot]].name, *values)
+
+    def _robot_kinds(self):
+        """Return which robots have motion noise and which are omni, in order (kept per roster)."""
+        if self._kinds[:2] != (self.state, self.state.version):
+            robots = [self.state.entities[row] for row in self.state.robot_rows]
+            self._kinds = (self.state, self.state.version,
+                           np.array([robot.motion_noise is not None for robot in robots],
+                                    dtype=bool),
+                           np.array([robot.description.kinematic.model == 'omni'
+                                     for robot in robots], dtype=bool))
+        return self._kinds[2:]
 
     def set_velocity(self, name: str, x: float, y: float, angular: float) -> None:
         """
