@@ -12,6 +12,7 @@ Readings follow REP-117: no return within max_range is +inf, a return closer tha
 import functools
 import math
 
+from numba import njit
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.occupancy_map import OccupancyMap
@@ -95,13 +96,35 @@ def apply_noise_and_limits(distances: ArrayLike, min_ranges: np.ndarray,
     Every argument but rng has one value per reading; readings with no return stay +inf.
     """
     distances = np.array(distances, dtype=float)
-    returned = np.isfinite(distances)
-    count = int(np.count_nonzero(returned))
-    if count:
-        distances[returned] += means[returned] + stds[returned] * rng.standard_normal(count)
-    distances[returned & (distances > max_ranges)] = np.inf
-    distances[returned & (distances < min_ranges)] = -np.inf
+    count = _returns(distances)
+    _add_noise_and_limits(distances, min_ranges, max_ranges, means, stds,
+                          rng.standard_normal(count) if count else _NOTHING)
     return distances
+
+
+@njit(cache=True)
+def _returns(distances):
+    """Return how many readings have a return (are finite)."""
+    count = 0
+    for distance in distances:
+        count += math.isfinite(distance)
+    return count
+
+
+@njit(cache=True)
+def _add_noise_and_limits(distances, min_ranges, max_ranges, means, stds, draws):
+    """Add each return its noise (the draws in order, if any), then mark the limits, in place."""
+    drawn = 0
+    for reading in range(distances.size):
+        if not math.isfinite(distances[reading]):
+            continue
+        if draws.size:
+            distances[reading] += means[reading] + stds[reading] * draws[drawn]
+            drawn += 1
+        if distances[reading] > max_ranges[reading]:
+            distances[reading] = math.inf
+        elif distances[reading] < min_ranges[reading]:
+            distances[reading] = -math.inf
 
 
 class ReadingPlan:
