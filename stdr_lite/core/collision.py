@@ -100,7 +100,8 @@ class FootprintChecker:
         """
         x, y, reach = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float),
                                           np.asarray(step_length, dtype=float) + radius)
-        return _clear_many(x.ravel(), y.ravel(), reach.ravel(), *self.grid).reshape(x.shape)
+        return _each_point(x.ravel(), y.ravel(), reach.ravel(), False,
+                           *self.grid).reshape(x.shape)
 
     def to_map_frame(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Express world coordinates in the frame of the map's lower-left corner."""
@@ -118,7 +119,8 @@ class FootprintChecker:
         x, y, radius = np.broadcast_arrays(np.asarray(x, dtype=float),
                                            np.asarray(y, dtype=float),
                                            np.asarray(radius, dtype=float))
-        return _touches_many(x.ravel(), y.ravel(), radius.ravel(), *self.grid).reshape(x.shape)
+        return _each_point(x.ravel(), y.ravel(), radius.ravel(), True,
+                           *self.grid).reshape(x.shape)
 
     def polygon_touches(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike,
                         points: np.ndarray) -> np.ndarray:
@@ -259,16 +261,10 @@ def circle_touches(grid: tuple, x: float, y: float, radius: float) -> bool:
 
 
 @njit(cache=True)
-def _touches_many(x, y, radius, *grid):
-    touched = np.empty(x.size, dtype=np.bool_)
+def _each_point(x, y, values, exact, *grid):
+    """Return circle_touches (exact, values the radii) or clear_at (values the reaches) a point."""
+    answers = np.empty(x.size, dtype=np.bool_)
     for point in range(x.size):
-        touched[point] = circle_touches(grid, x[point], y[point], radius[point])
-    return touched
-
-
-@njit(cache=True)
-def _clear_many(x, y, reach, *grid):
-    clear = np.empty(x.size, dtype=np.bool_)
-    for point in range(x.size):
-        clear[point] = clear_at(grid, x[point], y[point], reach[point])
-    return clear
+        answers[point] = (circle_touches(grid, x[point], y[point], values[point]) if exact
+                          else clear_at(grid, x[point], y[point], values[point]))
+    return answers

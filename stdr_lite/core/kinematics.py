@@ -2,14 +2,17 @@
 Unicycle kinematics: each integrator written once, compiled (numba), for one body or many.
 
 euler_pose and arc_pose advance one body and are what the World's compiled step calls;
-euler_step and arc_step are the same rules as numpy ufuncs, which broadcast: scalars for one
+euler_step and arc_step are the same functions over arrays, which broadcast: scalars for one
 robot, arrays for many, or an extra trailing axis of durations to sample a step at several
-instants. Headings are wrapped by the one rule of simple_robot_control.pose, compiled as it is.
+instants (a polygon's path near a wall). Headings are wrapped by the one rule of
+simple_robot_control.pose, compiled as it is.
 """
 
 import math
 
-from numba import guvectorize, njit
+from numba import njit
+import numpy as np
+from numpy.typing import ArrayLike
 from simple_robot_control.compiled_rules import compiled
 from simple_robot_control.pose import wrap_number
 from stdr_lite.core.setting_values import ARC, EULER
@@ -54,18 +57,18 @@ def integrate(x: float, y: float, theta: float, v: float, omega: float, dt: floa
     return euler_pose(x, y, theta, v, omega, dt)
 
 
-_SIGNATURE = ['void(f8, f8, f8, f8, f8, f8, f8[:], f8[:], f8[:])']
-_LAYOUT = '(),(),(),(),(),()->(),(),()'
+def _over_arrays(pose):
+    """Return pose over arrays: numpy broadcasting, each element through the compiled pose."""
+    each = np.vectorize(pose, otypes=(float, float, float))
+
+    def step(x: ArrayLike, y: ArrayLike, theta: ArrayLike, v: ArrayLike, omega: ArrayLike,
+             dt: ArrayLike) -> tuple:
+        return tuple(part[()] for part in each(x, y, theta, v, omega, dt))
+    step.__doc__ = f'Advance any number of bodies as {pose.__name__} does (they broadcast).'
+    return step
 
 
-@guvectorize(_SIGNATURE, _LAYOUT, cache=True)
-def euler_step(x, y, theta, v, omega, dt, new_x, new_y, new_theta):  # noqa: D103
-    new_x[0], new_y[0], new_theta[0] = euler_pose(x, y, theta, v, omega, dt)
-
-
-@guvectorize(_SIGNATURE, _LAYOUT, cache=True)
-def arc_step(x, y, theta, v, omega, dt, new_x, new_y, new_theta):  # noqa: D103
-    new_x[0], new_y[0], new_theta[0] = arc_pose(x, y, theta, v, omega, dt)
-
+# Not numba ufuncs: those are compiled, or loaded from their cache, at every import (a second).
+euler_step, arc_step = _over_arrays(euler_pose), _over_arrays(arc_pose)
 
 INTEGRATORS = {EULER: euler_step, ARC: arc_step}
