@@ -228,6 +228,8 @@ def _advance(poses, radii, polygonal, linear, lateral, angular, travel, dt, arc,
 def _verdict(grid, x, y, heading, speed, turn, angular, radius, polygonal, dt, arc,
              sample_spacing):
     step_length = abs(speed) * dt
+    if not (math.isfinite(step_length) and math.isfinite(angular)):
+        return BLOCKED  # no path to sample: the World used directly, unchecked
     if not (speed != 0.0 or (polygonal and angular != 0.0)):
         return MOVES
     if clear_at(grid, x, y, step_length + radius):

@@ -176,3 +176,12 @@ def test_no_step_ends_in_a_wall_or_another_body(integrator):
     assert refused > 10
     assert not np.array_equal(world.poses[:, :2], [[0.5, 0.5], [0.9, 0.5], [2.4, 1.2],
                                                    [1.0, 2.0], [2.2, 0.5]])
+
+
+def test_a_step_of_no_finite_length_is_refused_at_once():
+    world = World(grid_map(walled_room(40, 40) == 0), max_radius=0.3)
+    world.add_body((0.5, 0.5, 0.0), 0.2)
+    world.add_body((1.5, 1.5, 0.0), 0.2, ((-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)))
+    moved = world.step([math.inf, 0.0], [0.0, math.nan], 0.05)
+    assert not moved.any()
+    assert world.poses.tolist() == [[0.5, 0.5, 0.0], [1.5, 1.5, 0.0]]
