@@ -53,14 +53,15 @@ class HeldCommands:
     def limited(self, linear: float, lateral: float,
                 angular: float) -> tuple[tuple[float, float, float], CommandOutcome]:
         """Return a finite command within the limits, and whether (and why) it was clamped."""
-        speed = math.hypot(linear, lateral)
-        if speed <= self.max_linear_speed and abs(angular) <= self.max_angular_speed:
-            return (linear, lateral, angular), CommandOutcome.APPLIED
-        at_bound = speed > self.safety[0] or abs(angular) > self.safety[1]
+        command = _limit(linear, lateral, angular, self.max_linear_speed,
+                         self.max_angular_speed)
+        if command == (linear, lateral, angular):
+            return command, CommandOutcome.APPLIED
+        at_bound = (math.hypot(linear, lateral) > self.safety[0]
+                    or abs(angular) > self.safety[1])
         outcome = (CommandOutcome.SAFETY_BOUND if at_bound and not self.clamps
                    else CommandOutcome.CLAMPED)
-        return _limit(linear, lateral, angular, self.max_linear_speed,
-                      self.max_angular_speed), outcome
+        return command, outcome
 
     def limited_rows(self, commands: np.ndarray) -> np.ndarray:
         """Return (linear, lateral, angular) rows within the limits, as limited() makes each."""
@@ -90,7 +91,8 @@ def _limit(linear, lateral, angular, max_linear_speed, max_angular_speed):
     """
     Return a command within the limits: the speed scaled down to the limit, the turn clipped.
 
-    The one rule of both limited() and limited_rows(); a command within them is kept as it is.
+    The one rule of both limited() and limited_rows(); a command within them is kept as it is
+    (which is how limited() knows it was within them).
     """
     speed = math.hypot(linear, lateral)
     if speed <= max_linear_speed and abs(angular) <= max_angular_speed:
