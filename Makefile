@@ -47,8 +47,7 @@ bench: install $(VENV)/.test-dependencies
 # A policy learned end to end: PPO (Stable-Baselines3, torch on the CPU) trains on the lab's
 # task for TRAIN_MINUTES in a venv of its own beside the interface builds (torch and SB3 never
 # enter .venv), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200
-# held-out courses, then grade_lab grades it driving the bundled courses through ROS (not in
-# lockstep: the policy acts at its own 10 Hz, on the simulator's clock).
+# held-out courses, then grade_lab grades it driving the bundled courses through ROS, in lockstep.
 TRAIN_MINUTES ?= 15
 train: install
 	test -x "$(TRAIN_VENV)/bin/python" || python3 -m venv "$(TRAIN_VENV)"
@@ -57,13 +56,13 @@ train: install
 		stable-baselines3 . 2> >(grep -v 'is ignored' >&2)
 	cd / && "$(TRAIN_VENV)/bin/python" "$(CURDIR)/scripts/train_policy.py" \
 		--minutes $(TRAIN_MINUTES) --output "$(CURDIR)/waypoints_ppo.npz"
-	PATH="$(abspath $(VENV))/bin:$$PATH" grade_lab --courses waypoints --jobs 2 \
+	PATH="$(abspath $(VENV))/bin:$$PATH" grade_lab --courses waypoints --jobs 2 --lockstep \
 		--real-time-factor 4 --report policy_report -- policy_controller {waypoints} \
-		--ros-args -p use_sim_time:=true -p policy:="$(CURDIR)/waypoints_ppo.npz"
+		--ros-args -p policy:="$(CURDIR)/waypoints_ppo.npz"
 
 # The lab tour driven by the shipped policy (POLICY=waypoints_ppo.npz for one of make train's).
 demo-policy: install
-	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller LOCKSTEP=false scripts/demo.sh
+	PATH="$(abspath $(VENV))/bin:$$PATH" CONTROLLER=policy_controller scripts/demo.sh
 
 # In-process tests import the package from this tree: its compiled code (the simulator's core, the
 # learning task's passes) goes into the tree's numba cache first (as install does for the

@@ -16,16 +16,15 @@ import math
 import sys
 import time
 
-from bench.courses import (drive, LEG_KINDS, Loop, lower_bound, random_course, time_limit,
+from bench.courses import (drive, LEG_KINDS, Loop, lower_bound, random_course,
                            TYPICAL_DRIFT)
 from bench.optimum import course_optimum, ReedsSheppTimes, replay
 import numpy as np
 from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.control_law import CourseFollower, FollowerStep, plan_limits
+from waypoint_controller.control_law import plan_limits, PlannedLaw
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import plan_to_goal_set
-from waypoint_lab.course import in_goal_set
 
 
 class RotateDriveRotate:
@@ -33,49 +32,33 @@ class RotateDriveRotate:
 
     def __init__(self, waypoints, config):
         self.waypoints, self.config = waypoints, config
-        self.next_index = 0
         self._heading = PID(4.0, 0.0, 0.0, config.max_angular_speed)
         self._distance = PID(2.0, 0.0, 0.0, config.max_linear_speed)
+        self._goal = None
 
-    @property
-    def finished(self):
-        return self.next_index == len(self.waypoints)
+    def aim(self, pose, index):
+        self._goal = self.waypoints[index]
 
-    def check(self, pose):
-        reached = []
-        config = self.config
-        while not self.finished and in_goal_set(pose, self.waypoints[self.next_index],
-                                                config.distance_tolerance,
-                                                config.angle_tolerance):
-            reached.append(self.next_index)
-            self.next_index += 1
-        return tuple(reached)
-
-    def update(self, pose, dt):
-        reached = self.check(pose)
-        if self.finished:
-            return FollowerStep(0.0, 0.0, reached, True)
-        goal = self.waypoints[self.next_index]
+    def command(self, pose, dt):
+        goal = self._goal
         x, y, theta = pose
         distance = math.hypot(goal.x - x, goal.y - y)
         kp = min(4.0, 0.9 / dt)
         if distance <= 0.5 * self.config.distance_tolerance:
-            angular = self._heading.update(wrap(goal.theta - theta), dt, kp=kp)
-            return FollowerStep(0.0, angular, reached, False)
+            return 0.0, self._heading.update(wrap(goal.theta - theta), dt, kp=kp)
         facing_error = wrap(math.atan2(goal.y - y, goal.x - x) - theta)
         angular = self._heading.update(facing_error, dt, kp=kp)
         if abs(facing_error) > math.radians(5.0):
-            return FollowerStep(0.0, angular, reached, False)
-        linear = self._distance.update(distance, dt, kp=min(2.0, 0.9 / dt))
-        return FollowerStep(linear, angular, reached, False)
+            return 0.0, angular
+        return self._distance.update(distance, dt, kp=min(2.0, 0.9 / dt)), angular
 
 
-def evaluate(make_follower, courses, config, loop, optimum_runs=None):
+def evaluate(make_law, courses, config, loop, optimum_runs=None):
     """Measure one controller in one loop; T/opt against the replayed optimum's runs."""
     ratios, optimal, stretch, reversals, failures = [], [], [], [], 0
     by_kind = {kind: [] for kind in LEG_KINDS}
     for index, (start, waypoints, kinds) in enumerate(courses):
-        run = drive(make_follower(waypoints), start, loop, time_limit(start, waypoints, config))
+        run = drive(make_law(waypoints), waypoints, start, loop, config)
         if not run.success:
             failures += 1
             continue
@@ -162,16 +145,16 @@ def main(argv=None):
           f'{config.distance_tolerance} m / {math.degrees(config.angle_tolerance):g} deg; '
           'T/opt: time / the optimum replayed at the same dt')
     print(HEADER)
-    ours = ('waypoint_controller', lambda w: CourseFollower(w, config))
+    ours = ('waypoint_controller', lambda w: PlannedLaw(w, config))
     contenders = [ours] + ([] if args.no_baseline else [
         ('rotate-drive-rotate', lambda w: RotateDriveRotate(w, config))])
     chains = optimum_chains(courses, config)
     optimum = {}
     for dt in sorted(set(args.dt) | ({0.01} if args.rates else set())):
         optimum[dt] = replayed_optimum(courses, chains, config, dt)
-    for name, make_follower in contenders:
+    for name, make_law in contenders:
         for dt in args.dt:
-            report(name, f'dt {dt:g}', evaluate(make_follower, courses, config, Loop(dt),
+            report(name, f'dt {dt:g}', evaluate(make_law, courses, config, Loop(dt),
                                                 optimum[dt]))
     for rate in args.rates:
         loop = Loop(0.01, control_every=round(100.0 / rate))

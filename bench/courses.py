@@ -15,7 +15,7 @@ from stdr_lite.core.kinematics import arc_step
 from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.state import WorldState
-from waypoint_controller.control_law import FollowerStep
+from waypoint_lab.lifecycle import RunLifecycle, RunRules
 from waypoint_lab.waypoints import Waypoint
 
 LEG_KINDS = ('open', 'behind', 'lateral', 'rotation')
@@ -83,32 +83,36 @@ class Loop:
     drift: OdometryNoise = OdometryNoise()
 
 
-def drive(follower, start, loop: Loop, time_limit):
+def drive(law, waypoints, start, loop: Loop, config):
     """
-    Run one course and time each of its legs.
+    Run one course through the lab's run lifecycle and time each of its legs.
 
-    Every step the goal is checked on the odometry pose; every control period a command is
-    computed, to be applied late_by control periods later; then one exact-arc step is taken.
+    Every step the goal is checked on the odometry pose; every control period the law's
+    command is taken, to be applied late_by control periods later; then one exact-arc step is
+    taken. The run has the course's time limit (time_limit) and no stall abort before it.
     """
+    limit = time_limit(start, waypoints, config)
+    run = RunLifecycle(waypoints, law, RunRules(
+        config.distance_tolerance, config.angle_tolerance, config.max_linear_speed,
+        config.max_angular_speed, stall_timeout=limit,
+        control_period_ns=round(loop.dt * loop.control_every * 1e9)))
     pose, seen = start, start
     odometry = (Odometry(WorldState.of_bodies([start]), loop.drift, seed=0)
                 if loop.drift.enabled else None)
     queue = deque([(0.0, 0.0)] * loop.late_by)
-    command, period = (0.0, 0.0), loop.dt * loop.control_every
+    command = (0.0, 0.0)
     path_length, reversals, last_sign, elapsed, step_index = 0.0, 0, 0.0, 0.0, 0
     leg_started, leg_times = 0.0, []
-    while elapsed <= time_limit:
-        if step_index % loop.control_every == 0:
-            step = follower.update(seen, period)
-            queue.append((step.linear, step.angular))
+    while elapsed <= limit:
+        outcome = run.observe(round(step_index * loop.dt * 1e9), seen)
+        if outcome.exit_code is None and outcome.command is not None:
+            queue.append(outcome.command)
             command = queue.popleft()
-        else:
-            step = FollowerStep(*command, follower.check(seen), follower.finished)
-        for _ in step.reached:
+        for _ in outcome.reached:
             leg_times.append(elapsed - leg_started)
             leg_started = elapsed
-        if step.finished:
-            return Run(True, elapsed, path_length, reversals, leg_times)
+        if outcome.exit_code is not None:
+            return Run(outcome.exit_code == 0, elapsed, path_length, reversals, leg_times)
         linear, angular = command
         sign = math.copysign(1.0, angular) if abs(angular) > 1e-3 else 0.0
         if sign and last_sign and sign != last_sign:

@@ -20,12 +20,12 @@ import argparse
 import math
 import sys
 
-from bench.courses import drive, Loop, lower_bound, random_course, time_limit
+from bench.courses import drive, Loop, lower_bound, random_course
 import numpy as np
 from ompl import base as ompl_base
 from simple_robot_control.pose import wrap_angle
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.control_law import CourseFollower, plan_limits
+from waypoint_controller.control_law import plan_limits, PlannedLaw
 from waypoint_controller.planner import TurnPlan
 
 EDGE_DIRECTIONS = 16
@@ -125,10 +125,10 @@ def inset(pose, waypoint):
 
 
 def replay(start, waypoints, chain, config, dt):
-    """Drive the chain in the bench loop: the follower aims at the chain's poses."""
+    """Drive the chain in the bench loop: the law aims at the chain's poses."""
     targets = [inset(pose, waypoint) for pose, waypoint in zip(chain, waypoints)]
-    follower = CourseFollower(waypoints, config, targets=targets)
-    return drive(follower, start, Loop(dt), time_limit(start, waypoints, config))
+    return drive(PlannedLaw(waypoints, config, targets=targets), waypoints, start, Loop(dt),
+                 config)
 
 
 def main(argv=None):

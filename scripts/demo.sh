@@ -14,8 +14,7 @@ speed=${REAL_TIME_FACTOR:-4.0}
 record=${RECORD:-run.mcap}
 picture=${PICTURE:-run.png}
 
-# LOCKSTEP=false for a controller that does not answer every step (policy_controller acts at
-# its own rate, on the simulator's clock).
+# LOCKSTEP=false for a controller that does not answer every odometry stamp (ours both do).
 stdr_lite --ros-args -p lockstep:="${LOCKSTEP:-true}" -p real_time_factor:="$speed" \
     --log-level warn &
 simulator=$!
@@ -55,7 +54,6 @@ echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast a
 # CONTROLLER=policy_controller drives with a learned policy (POLICY: its file; the shipped one).
 policy=()
 [ -z "${POLICY:-}" ] || policy=(-p "policy:=$POLICY")
-[ "${CONTROLLER:-}" != policy_controller ] || policy+=(-p use_sim_time:=true)
 "${CONTROLLER:-waypoint_controller}" "$course" --ros-args --log-level warn "${policy[@]}" &
 controller=$!
 status=0

@@ -10,14 +10,12 @@ the error against the plan's reference pose. When the pose strays from the plan 
 drifting odometry, late commands) the law plans again from where the robot is.
 """
 
-from dataclasses import dataclass
 import math
 
 from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.config import ControllerConfig
 from waypoint_controller.pid import PID
 from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
-from waypoint_lab.course import in_goal_set
 
 # Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
 # one control period's motion, means planning again, to the same end pose: smaller errors are
@@ -159,82 +157,38 @@ def _near(pose, other):
             and abs(wrap(pose[2] - other[2])) <= REPLAN_ANGLE)
 
 
-@dataclass(frozen=True)
-class FollowerStep:
-    """One control step: the command, the waypoints reached at this pose, and completion."""
-
-    linear: float
-    angular: float
-    reached: tuple
-    finished: bool
-
-
-class CourseFollower:
+class PlannedLaw:
     """
-    Takes a robot through waypoints in order; each is reached on entering its goal set.
+    The lab's answer as a control law (waypoint_lab/lifecycle.py): plan into each goal set.
 
     is_free vetoes plans (see PoseController); targets, if given, are the end poses to aim at,
     one per waypoint, instead of the ones the planner would choose (to replay a given plan).
     """
 
     def __init__(self, waypoints, config=ControllerConfig(), is_free=None, targets=None):
-        if not waypoints:
-            raise ValueError('a course needs at least one waypoint')
         self.waypoints = list(waypoints)
-        self.config = config
         self.targets = targets
-        self._controller = PoseController(config, is_free)
-        self.next_index = 0
-        self._started = False
+        self.controller = PoseController(config, is_free)
 
     @property
-    def controller(self) -> PoseController:
-        return self._controller
+    def config(self) -> ControllerConfig:
+        return self.controller.config
 
     def avoid(self, is_free) -> None:
         """Veto plans with is_free(plan) from now on (a new map): the next command re-plans."""
-        self._controller.is_free = is_free
-        self._controller.plan_again()
+        self.controller.is_free = is_free
+        self.controller.plan_again()
 
     def reconfigure(self, config: ControllerConfig) -> None:
-        """Use new limits, tolerances and gains from the next check or command on."""
-        self._controller.reconfigure(config)
-        self.config = config
+        """Use new limits, tolerances and gains from the next command on."""
+        self.controller.reconfigure(config)
 
-    @property
-    def finished(self):
-        return self.next_index >= len(self.waypoints)
+    def aim(self, pose, index):
+        """Plan from pose into waypoint index's goal set, counting the leg after it."""
+        following = self.waypoints[index + 1] if index + 1 < len(self.waypoints) else None
+        self.controller.start(pose, self.waypoints[index], following,
+                              None if self.targets is None else self.targets[index])
 
-    @property
-    def current(self):
-        """Return the waypoint being driven to, or None when finished."""
-        return None if self.finished else self.waypoints[self.next_index]
-
-    def errors(self, pose):
-        """Return (distance, wrapped heading error) from pose to the current waypoint."""
-        goal = self.current
-        return (math.hypot(goal.x - pose[0], goal.y - pose[1]), wrap(goal.theta - pose[2]))
-
-    def check(self, pose):
-        """Advance past every waypoint whose goal set contains pose; return their indices."""
-        reached = []
-        config = self.config
-        while not self.finished and in_goal_set(pose, self.current, config.distance_tolerance,
-                                                config.angle_tolerance):
-            reached.append(self.next_index)
-            self.next_index += 1
-        if not self.finished and (reached or not self._started):
-            self._started = True
-            index = self.next_index
-            following = self.waypoints[index + 1] if index + 1 < len(self.waypoints) else None
-            self._controller.start(pose, self.current, following,
-                                   None if self.targets is None else self.targets[index])
-        return tuple(reached)
-
-    def update(self, pose, dt):
-        """Check the goal set at pose, then return the command for the next dt seconds."""
-        reached = self.check(pose)
-        if self.finished:
-            return FollowerStep(0.0, 0.0, reached, True)
-        linear, angular = self._controller.command(pose, dt)
-        return FollowerStep(linear, angular, reached, False)
+    def command(self, pose, dt):
+        """Return (linear, angular) velocity for the next dt seconds."""
+        return self.controller.command(pose, dt)

@@ -12,7 +12,8 @@ import math
 from simple_robot_control.parameter_specs import ParameterSpec
 from simple_robot_control.share import BUNDLED_COURSE
 from simple_robot_control.validation import Bounds
-from waypoint_lab.rules import ANGLE_TOLERANCE, COURSE_TOPIC, DISTANCE_TOLERANCE, STATUS_TOPIC
+from waypoint_lab.rules import (ANGLE_TOLERANCE, COURSE_TOPIC, DISTANCE_TOLERANCE,
+                                MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STATUS_TOPIC)
 
 COURSE_PARAMETERS = (
     ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '
@@ -25,6 +26,23 @@ COURSE_PARAMETERS = (
     ParameterSpec('angle_tolerance_deg', math.degrees(ANGLE_TOLERANCE),
                   'goal set heading tolerance t [degrees, as in the lab]',
                   Bounds(0.0, 180.0, low_open=True), tunable=True),
+)
+
+SPEED = Bounds(0.0, 10.0, low_open=True)
+
+# What every controller of the lab takes (runner.py): the course, the speed limits it is held
+# to, its pace and when it gives up.
+RUNNER_PARAMETERS = COURSE_PARAMETERS + (
+    ParameterSpec('max_linear_speed', MAX_LINEAR_SPEED, 'speed limit [m/s]', SPEED,
+                  tunable=True),
+    ParameterSpec('max_angular_speed', MAX_ANGULAR_SPEED, 'turn-rate limit [rad/s]', SPEED,
+                  tunable=True),
+    ParameterSpec('control_rate_hz', 20.0, 'control loop rate [Hz of odometry stamp time]',
+                  Bounds(5.0, 100.0)),
+    ParameterSpec('stall_timeout', 10.0, 'abort when no progress towards the current waypoint '
+                  'for this long [s of odometry stamp time]', Bounds(0.0, 3600.0, low_open=True)),
+    ParameterSpec('cmd_vel_stamped', False, 'send commands as geometry_msgs/TwistStamped, for a '
+                  'simulator (or robot) that takes them so'),
 )
 
 # What makes a run of the lab: the controller's reports and course, every robot's odometry,
@@ -47,8 +65,10 @@ COURSE_MONITOR_PARAMETERS = tuple(dataclasses.replace(spec, tunable=False)
                   'ros2 bag and Foxglove; empty: no record'),
 )
 
-POLICY_CONTROLLER_PARAMETERS = (
-    *(spec for spec in COURSE_PARAMETERS if spec.name in ('waypoint_file', 'robot_name')),
+# A policy acts at the rate and speeds it learned with: those are its task's, not parameters.
+POLICY_CONTROLLER_PARAMETERS = tuple(
+    spec for spec in RUNNER_PARAMETERS
+    if spec.name not in ('max_linear_speed', 'max_angular_speed', 'control_rate_hz')) + (
     ParameterSpec('policy', '', 'the policy to drive with: an .npz file as scripts/'
                   "train_policy.py writes it; '' is the bundled one, trained by make train"),
 )

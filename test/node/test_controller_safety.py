@@ -10,8 +10,8 @@ from simple_robot_control.pose import set_pose
 from simple_robot_control.validation import ConfigError
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
-from waypoint_controller.waypoint_controller import (FIRST_ANSWER_AFTER, NEWCOMER_FOR,
-                                                     WaypointController)
+from waypoint_controller.waypoint_controller import WaypointController
+from waypoint_lab.runner import FIRST_ANSWER_AFTER, NEWCOMER_FOR
 
 EVERYTHING = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE,
                         durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -100,7 +100,7 @@ def test_the_python_pages_examples_run_as_shown(tmp_path, monkeypatch):
     monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
     page = Path(__file__).resolve().parents[2] / 'doc' / 'python.md'
     blocks = re.findall(r'```python\n(.*?)```', page.read_text(), re.DOTALL)
-    assert len(blocks) == 5
+    assert len(blocks) == 6
     namespace = {}
     for block in blocks:
         exec(compile(block, str(page), 'exec'), namespace)

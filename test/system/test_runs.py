@@ -12,7 +12,7 @@ from rclpy.node import Node
 from ros_helpers import spin_until
 from simple_robot_control.graph import UNNAMED
 
-from waypoint_controller.waypoint_controller import NEWCOMER_FOR
+from waypoint_lab.runner import NEWCOMER_FOR
 
 REPEATS = 3
 

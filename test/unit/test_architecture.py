@@ -31,10 +31,10 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'simple_robot_control/foxglove_live_parameters.py', 'stdr_lite/node/parameters.py',
         'stdr_lite/viewer/parameters.py', 'stdr_lite/tools/parameters.py'] + [
     f'waypoint_controller/{name}.py' for name in (
-        'control_law', 'pid', 'schedule', 'stall', 'continuity', 'planner', 'reeds_shepp',
+        'control_law', 'pid', 'planner', 'reeds_shepp',
         'clearance', 'config', 'parameters')] + [
     f'waypoint_lab/{name}.py' for name in (
-        'course', 'rules', 'parameters', 'waypoints', 'status', 'run', 'plot_run',
+        'course', 'rules', 'parameters', 'waypoints', 'status', 'lifecycle', 'run', 'plot_run',
         'run_picture')] + [
     f'lab_grader/{name}.py' for name in (
         'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [

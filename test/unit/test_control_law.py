@@ -1,5 +1,6 @@
 """The control law in a plain kinematic loop: each behaviour the issue asks for."""
 
+from collections import namedtuple
 import math
 
 import pytest
@@ -7,23 +8,28 @@ from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller import control_law
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.control_law import CourseFollower, PoseController
-from waypoint_lab.course import in_goal_set
+from waypoint_controller.control_law import PlannedLaw, PoseController
+from waypoint_lab.course import goal_error, in_goal_set
+from waypoint_lab.lifecycle import RunLifecycle, RunRules
 from waypoint_lab.waypoints import Waypoint
 
 CONFIG = ControllerConfig()
+Step = namedtuple('Step', 'linear angular reached finished')
 
 
 def simulate(waypoints, start, dt=0.05, time_limit=60.0):
-    """Drive the course with exact arcs; return the trace of (time, pose, step) and the time."""
-    follower = CourseFollower(waypoints, CONFIG)
-    pose, trace, elapsed = start, [], 0.0
+    """Drive the course with exact arcs; return the trace of (time, pose, outcome) and the time."""
+    law = PlannedLaw(waypoints, CONFIG)
+    rules = RunRules(control_period_ns=round(dt * 1e9), stall_timeout=time_limit)
+    run = RunLifecycle(waypoints, law, rules)
+    pose, trace, elapsed, command = start, [], 0.0, (0.0, 0.0)
     while elapsed <= time_limit:
-        step = follower.update(pose, dt)
-        trace.append((elapsed, pose, step))
-        if step.finished:
+        outcome = run.observe(round(elapsed * 1e9) + 1, pose)
+        command = outcome.command or command
+        trace.append((elapsed, pose, Step(*command, outcome.reached, outcome.exit_code == 0)))
+        if outcome.exit_code == 0:
             return trace, elapsed
-        pose = tuple(float(value) for value in arc_step(*pose, step.linear, step.angular, dt))
+        pose = tuple(float(value) for value in arc_step(*pose, *command, dt))
         elapsed += dt
     raise AssertionError(f'course not finished within {time_limit} s')
 
@@ -69,10 +75,9 @@ def test_heading_across_180_degrees_takes_the_short_way():
 
 
 def test_waypoint_at_the_current_pose_is_reached_at_once():
-    follower = CourseFollower([Waypoint(1.0, 2.0, 0.5)], CONFIG)
-    step = follower.update((1.0, 2.0, 0.5), 0.05)
-    assert step.reached == (0,) and step.finished
-    assert (step.linear, step.angular) == (0.0, 0.0)
+    trace, elapsed = simulate([Waypoint(1.0, 2.0, 0.5)], (1.0, 2.0, 0.5))
+    assert elapsed == 0.0 and len(trace) == 1
+    assert trace[0][2] == Step(0.0, 0.0, (0,), True)
 
 
 def test_intermediate_waypoints_are_passed_without_stopping():
@@ -105,10 +110,10 @@ def test_bad_configuration_is_refused():
 
 
 def test_errors_are_measured_to_the_current_waypoint():
-    follower = CourseFollower([Waypoint(3.0, 4.0, math.radians(170))], CONFIG)
-    distance, heading_error = follower.errors((0.0, 0.0, math.radians(-170)))
+    distance, heading_error = goal_error(0.0, 0.0, math.radians(-170), 3.0, 4.0,
+                                         math.radians(170))
     assert distance == pytest.approx(5.0)
-    assert heading_error == pytest.approx(math.radians(-20))
+    assert heading_error == pytest.approx(math.radians(20))
 
 
 def test_a_straight_leg_takes_the_optimal_time():
@@ -140,16 +145,17 @@ def test_a_given_target_pose_is_aimed_at():
 
 
 def test_a_push_off_the_plan_is_recovered_by_planning_again():
-    follower = CourseFollower([Waypoint(3.0, 0.0, 0.0)], CONFIG)
+    goal = Waypoint(3.0, 0.0, 0.0)
+    law = PlannedLaw([goal], CONFIG)
     pose, elapsed = (0.0, 0.0, 0.0), 0.0
-    while not (step := follower.update(pose, 0.05)).finished:
-        pose = tuple(float(value) for value in arc_step(*pose, step.linear, step.angular, 0.05))
+    law.aim(pose, 0)
+    while not in_goal_set(pose, goal):
+        pose = tuple(float(value) for value in arc_step(*pose, *law.command(pose, 0.05), 0.05))
         if abs(elapsed - 2.0) < 1e-9:
             pose = (pose[0], pose[1] + 0.4, pose[2] + 0.5)
         elapsed = round(elapsed + 0.05, 10)
         assert elapsed < 30.0
-    assert follower.controller.replans >= 1
-    assert in_goal_set(pose, Waypoint(3.0, 0.0, 0.0))
+    assert law.controller.replans >= 1
 
 
 def test_a_goal_every_plan_to_which_is_vetoed_is_not_searched_again_in_place(monkeypatch):
@@ -160,13 +166,13 @@ def test_a_goal_every_plan_to_which_is_vetoed_is_not_searched_again_in_place(mon
         searches.append(args[0])
         return None
     monkeypatch.setattr(control_law, 'plan_to_goal_set', counted)
-    follower = CourseFollower([Waypoint(1e6, 2.0, 0.0)], CONFIG, is_free=lambda plan: False)
+    law = PlannedLaw([Waypoint(1e6, 2.0, 0.0)], CONFIG, is_free=lambda plan: False)
+    law.aim((1.0, 2.0, 0.0), 0)
     for _ in range(50):
-        step = follower.update((1.0, 2.0, 0.0), 0.05)
-        assert (step.linear, step.angular) == (0.0, 0.0)
+        assert law.command((1.0, 2.0, 0.0), 0.05) == (0.0, 0.0)
     assert len(searches) == 1
-    follower.update((1.5, 2.0, 0.0), 0.05)
+    law.command((1.5, 2.0, 0.0), 0.05)
     assert len(searches) == 2
-    follower.avoid(lambda plan: False)
-    follower.update((1.5, 2.0, 0.0), 0.05)
+    law.avoid(lambda plan: False)
+    law.command((1.5, 2.0, 0.0), 0.05)
     assert len(searches) == 3

@@ -6,11 +6,12 @@ import gymnasium as gym
 from gymnasium.utils.env_checker import check_env
 import numpy as np
 import pytest
-from waypoint_controller.control_law import CourseFollower
+from waypoint_controller.control_law import PlannedLaw
 import waypoint_lab.learning  # noqa: F401  (registers the environments)
 from waypoint_lab.learning.task import Courses, TaskSettings, WAYPOINT
 from waypoint_lab.learning.vector_env import WaypointsVectorEnv
 from waypoint_lab.learning.waypoints_env import WaypointsEnv
+from waypoint_lab.lifecycle import RunLifecycle, RunRules
 from waypoint_lab.waypoints import Waypoint
 
 
@@ -64,13 +65,15 @@ def test_our_control_law_solves_the_environment():
     for seed in range(3):
         _, info = env.reset(seed=seed)
         courses = env.unwrapped.arena.courses
-        follower = CourseFollower([Waypoint(*waypoint) for waypoint in courses.waypoints[0]])
+        waypoints = [Waypoint(*waypoint) for waypoint in courses.waypoints[0]]
+        run = RunLifecycle(waypoints, PlannedLaw(waypoints), RunRules(control_period_ns=10 ** 8))
         terminated = truncated = False
-        total = 0.0
+        total, stamp = 0.0, 0
         while not (terminated or truncated):
-            step = follower.update(tuple(info['pose']), 0.1)
+            outcome = run.observe(stamp, tuple(info['pose']))
+            stamp += 10 ** 8
             _, reward, terminated, truncated, info = env.step(
-                np.array([step.linear, step.angular], dtype=np.float32))
+                np.array(outcome.command, dtype=np.float32))
             total += reward
         assert terminated and not truncated, f'seed {seed}: the course was not finished'
         assert total > 3 * WAYPOINT - 5.0

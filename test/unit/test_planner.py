@@ -8,7 +8,7 @@ from simple_robot_control.occupancy_map import OccupancyMap
 from stdr_lite.core.kinematics import arc_step
 from waypoint_controller.clearance import Clearance
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.control_law import CourseFollower, plan_limits
+from waypoint_controller.control_law import plan_limits, PlannedLaw
 from waypoint_controller.planner import (fastest_plan, goal_set_poses, Limits,
                                          plan_to_goal_set, ReedsSheppPlan, TurnPlan)
 from waypoint_lab.course import in_goal_set
@@ -70,13 +70,14 @@ def test_clearance_is_measured_to_the_wall_edge():
 def test_a_waypoint_beside_a_wall_facing_away_is_reached_without_touching_it():
     clearance = room_with_a_wall_at_the_left()
     waypoint = Waypoint(0.75, 2.5, 0.0)
-    free = CourseFollower([waypoint], CONFIG, is_free=clearance.is_free)
-    blind = CourseFollower([waypoint], CONFIG)
+    free = PlannedLaw([waypoint], CONFIG, is_free=clearance.is_free)
+    blind = PlannedLaw([waypoint], CONFIG)
     poses = {}
-    for name, follower in (('free', free), ('blind', blind)):
+    for name, law in (('free', free), ('blind', blind)):
         pose, trace = (0.8, 3.0, 1.57), []
-        while not (step := follower.update(pose, 0.05)).finished and len(trace) < 1200:
-            pose = tuple(float(v) for v in arc_step(*pose, step.linear, step.angular, 0.05))
+        law.aim(pose, 0)
+        while not in_goal_set(pose, waypoint) and len(trace) < 1200:
+            pose = tuple(float(v) for v in arc_step(*pose, *law.command(pose, 0.05), 0.05))
             trace.append(pose)
         poses[name] = trace
     assert in_goal_set(poses['free'][-1], waypoint)
@@ -85,10 +86,10 @@ def test_a_waypoint_beside_a_wall_facing_away_is_reached_without_touching_it():
 
 
 def test_with_every_plan_vetoed_the_robot_stops():
-    follower = CourseFollower([Waypoint(2.0, 0.0, 0.0)], CONFIG, is_free=lambda plan: False)
-    step = follower.update((0.0, 0.0, 0.0), 0.05)
-    assert (step.linear, step.angular) == (0.0, 0.0)
-    assert follower.controller.plan is None
+    law = PlannedLaw([Waypoint(2.0, 0.0, 0.0)], CONFIG, is_free=lambda plan: False)
+    law.aim((0.0, 0.0, 0.0), 0)
+    assert law.command((0.0, 0.0, 0.0), 0.05) == (0.0, 0.0)
+    assert law.controller.plan is None
 
 
 def test_limits_give_the_turning_radius():

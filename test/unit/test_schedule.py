@@ -1,7 +1,7 @@
 """Control ticks on a fixed grid of odometry stamp time."""
 
 import pytest
-from waypoint_controller.schedule import ControlSchedule
+from waypoint_lab.lifecycle import ControlSchedule
 
 MS = 1_000_000
 

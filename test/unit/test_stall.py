@@ -1,6 +1,6 @@
 """Stall detection."""
 
-from waypoint_controller.stall import StallDetector
+from waypoint_lab.lifecycle import StallDetector
 
 
 def test_stall_is_reported_after_the_timeout_without_progress():

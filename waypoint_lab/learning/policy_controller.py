@@ -1,46 +1,38 @@
 """
 A policy learned in process, driving a robot of a live stdr_lite through ROS, unchanged.
 
-PolicyController is a node: from the robot's odometry and laser it builds the observation a
-WaypointsEnv would give (task.observe), asks the policy (any callable: observation ->
-(linear m/s, angular rad/s)) for an action at the environment's rate, sends it as cmd_vel, and
-reports on robot_status as the lab asks (status.py's texts, interface.py's QoS), so that
-grade_lab can grade it as it grades a student's controller. The laser's rays are taken at the
-environment's angles (the nearest ray of the scan to each): a scan of the same rays gives the same
-observation to the bit. As the executable policy_controller it drives with a trained policy
-file (numpy_policy.py; the bundled one by default) through a waypoint file, as
-waypoint_controller does.
+PolicyController is the lab's runner (waypoint_lab/runner.py) with a learned policy as its
+control law: from the robot's odometry and laser it builds the observation a WaypointsEnv
+would give (task.observe) and asks the policy (any callable: observation -> (linear m/s,
+angular rad/s)) for an action at the environment's rate, on odometry time. So it starts,
+reports, aborts (a stall, a teleport) and answers in lockstep as waypoint_controller does, and
+grade_lab grades it as any controller. The laser's rays are taken at the environment's angles
+(the nearest ray of the scan to each): a scan of the same rays gives the same observation to
+the bit. Each control tick waits for the scan of its period, so a run in lockstep is the same
+run on any machine. As the executable policy_controller it drives with a trained policy file
+(numpy_policy.py; the bundled one by default) through a waypoint file, as waypoint_controller
+does.
 """
 
 import sys
-import time
 
-from geometry_msgs.msg import Twist
-from nav_msgs.msg import Odometry, Path
 import numpy as np
-from rclpy.task import Future
+from rclpy.time import Time
 from sensor_msgs.msg import LaserScan
-from simple_robot_control.graph import deliver_before_exit, DISCOVERY_TIME
-from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, run
-from simple_robot_control.parameters import declare_parameters
-from simple_robot_control.pose import pose_from_message
 from simple_robot_control.validation import ConfigError
-from std_msgs.msg import String
 from stdr_lite.core.sensors import relative_angles
-from waypoint_lab import status
-from waypoint_lab.interface import course_message, load_course, status_qos
 from waypoint_lab.learning.arena import laser_robot
 from waypoint_lab.learning.numpy_policy import NumpyPolicy, PolicyFileError
-from waypoint_lab.learning.task import Courses, observe, TaskSettings
+from waypoint_lab.learning.task import observe, TaskSettings
 from waypoint_lab.parameters import POLICY_CONTROLLER_PARAMETERS
-from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
-from waypoint_lab.waypoints import Waypoint
+from waypoint_lab.runner import CourseRunner, NOT_YET, READY, run_rules, WAIT
 
 
 DESCRIPTION = ('policy_controller: drive a robot through a waypoint file with a learned policy '
                '(run with numpy alone), reporting on robot_status as the lab asks, for '
-               'grade_lab as any controller.')
+               'grade_lab as any controller. Exit code 0 when finished, 1 when aborted, 2 for '
+               'bad input.')
 
 
 def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
@@ -54,88 +46,78 @@ def scan_at(scan: LaserScan, angles: np.ndarray) -> np.ndarray:
     return np.where(np.isnan(picked) | (picked > scan.range_max), np.inf, picked)
 
 
-class PolicyController(GuardedNode):
+class PolicyLaw:
+    """A policy as the lab's control law: the observation from the latest ranges and the goal."""
+
+    def __init__(self, policy, waypoints, max_range: float):
+        self._policy, self._max_range = policy, max_range
+        self._waypoints = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+        self._goal = self._waypoints[:1]
+        self.ranges = None
+
+    def aim(self, pose, index):
+        self._goal = self._waypoints[index:index + 1]
+
+    def command(self, pose, dt):
+        observation = observe(self.ranges[None, :], self._max_range,
+                              np.asarray(pose, dtype=float)[None, :], self._goal)[0]
+        return tuple(np.asarray(self._policy(observation), dtype=float).reshape(2))
+
+
+class PolicyController(CourseRunner):
     """
     Drives the robot robot_name through waypoints ((x, y, theta radians) each) with policy.
 
     Without waypoints, they come from waypoint_file (or the parameter, or the bundled course);
     without a policy, the policy parameter's file is run. The task (goal set, laser rays,
-    speeds) must be the one the policy learned on; robot is the robot file it learned with (its
-    first laser's span and range are the observation's). finished completes with 0 on FINISHED.
+    speeds) must be the one the policy learned on, rate_hz its control rate; robot is the robot
+    file it learned with (its first laser's span and range are the observation's).
     """
 
     def __init__(self, policy=None, waypoints=None, task: TaskSettings = TaskSettings(),
                  robot: str = '', laser: str = 'laser_0', rate_hz: float = 10.0,
                  waypoint_file: str | None = None, **kwargs):
-        super().__init__('policy_controller', **kwargs)
-        self.finished = Future()
-        self._alive_since = time.monotonic()
-        params = declare_parameters(self, POLICY_CONTROLLER_PARAMETERS)
-        robot_name = params['robot_name']
-        if waypoints is None:
-            _, course = load_course(self, waypoint_file, params['waypoint_file'])
-            waypoints = [tuple(waypoint) for waypoint in course]
+        spec = laser_robot(robot, task.laser_rays).lasers[0]
+        self._angles = relative_angles(spec)
+        self._scan_period_ns = round(1e9 / spec.frequency)
+        self._policy, self._task, self._rate_hz = policy, task, rate_hz
+        self._max_range = spec.max_range
+        self._scan_stamp = None
+        super().__init__('policy_controller', POLICY_CONTROLLER_PARAMETERS, waypoint_file,
+                         waypoints, **kwargs)
+        self._scan_topic = self.create_subscription(
+            LaserScan, f'{self.params["robot_name"]}/{laser}', self._on_scan, 10).topic_name
+
+    def build_law(self, params, waypoints):
+        policy = self._policy
         if policy is None:
             try:
                 policy = NumpyPolicy(params['policy'] or None)
             except PolicyFileError as error:
                 raise ConfigError(str(error)) from None
-        self._policy, self._task = policy, task
-        spec = laser_robot(robot, task.laser_rays).lasers[0]
-        self._angles, self._max_range = relative_angles(spec), spec.max_range
-        self._courses = Courses(np.asarray(waypoints, dtype=float)[None, :, :], task)
-        self._pose = self._scan = None
-        self._started = False
-        self._command = self.create_publisher(Twist, f'{robot_name}/cmd_vel', 10)
-        self._status = self.create_publisher(String, STATUS_TOPIC,
-                                             status_qos(len(self._courses.waypoints[0])))
-        # The course, as the lab's controller publishes it (latched), for recorders and plots.
-        self._course = self.create_publisher(Path, COURSE_TOPIC, status_qos(0))
-        self._course.publish(course_message([Waypoint(*waypoint) for waypoint in waypoints],
-                                            'map'))
-        self.create_subscription(Odometry, f'{robot_name}/odom', self._on_odometry, 10)
-        self.create_subscription(LaserScan, f'{robot_name}/{laser}', self._on_scan, 10)
-        self.create_timer(1.0 / rate_hz, self._act)
+        self._law = PolicyLaw(policy, [tuple(waypoint) for waypoint in waypoints],
+                              self._max_range)
+        task = self._task
+        return self._law, run_rules(params, max_linear_speed=task.max_linear_speed,
+                                    max_angular_speed=task.max_angular_speed,
+                                    control_period_ns=round(1e9 / self._rate_hz))
 
-    def _on_odometry(self, message):
-        self._pose = np.array(pose_from_message(message.pose.pose))
+    def inputs_ready(self, stamp_ns):
+        """Act once a scan came, each time on the scan of the laser's period up to stamp_ns."""
+        if self._scan_stamp is None:
+            return NOT_YET
+        return READY if self._scan_stamp > stamp_ns - self._scan_period_ns else WAIT
+
+    def waiting_for(self):
+        return f'a scan on {self._scan_topic}'
 
     def _on_scan(self, message):
-        self._scan = message
-
-    def _say(self, text):
-        self._status.publish(String(data=text))
-        self.get_logger().info(text)
-
-    def _act(self):
-        if self._pose is None or self._scan is None or self.finished.done():
+        stamp = Time.from_msg(message.header.stamp).nanoseconds
+        if self._scan_stamp is not None and stamp < self._scan_stamp:
             return
-        poses = self._pose[None, :]
-        if not self._started:
-            self._started = True
-            self._courses.start(poses)
-            self._say(status.started(tuple(self._pose)))
-        _, reached, finished = self._courses.update(poses, np.zeros(1, dtype=bool))
-        if reached[0]:
-            self._say(status.waypoint_reached(int(self._courses.next[0]), tuple(self._pose)))
-        if finished[0]:
-            self._command.publish(Twist())
-            self._say(status.finished())
-            self.finished.set_result(0)
-            return
-        ranges = scan_at(self._scan, self._angles)[None, :]
-        observation = observe(ranges, self._max_range, poses, self._courses.goals)[0]
-        linear, angular = np.clip(np.asarray(self._policy(observation), dtype=float),
-                                  [-self._task.max_linear_speed, -self._task.max_angular_speed],
-                                  [self._task.max_linear_speed, self._task.max_angular_speed])
-        twist = Twist()
-        twist.linear.x, twist.angular.z = float(linear), float(angular)
-        self._command.publish(twist)
-
-    def shut_down(self):
-        """Stop the robot; let every reader of robot_status have the run's last words."""
-        self._command.publish(Twist())
-        deliver_before_exit(self, self._status, self._alive_since, DISCOVERY_TIME)
+        self._scan_stamp = stamp
+        self._law.ranges = scan_at(message, self._angles)
+        self.answer_waiting()
 
 
 def main(argv=None):
