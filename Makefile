@@ -15,7 +15,7 @@ export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discover
 
 # What is kept across clones: the interface builds, the training venv (see scripts/).
 CACHE_DIR := $(or $(SIMPLE_ROBOT_CONTROL_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/simple_robot_control)
-TRAIN_VENV := $(CACHE_DIR)/train-venv
+TRAIN_VENV := $(CACHE_DIR)/train-venv-jax
 
 .PHONY: demo lab-session swarm grade test test-quick test-unit test-node test-system check-stdr \
 	bench train demo-policy install clean clean-cache
@@ -44,16 +44,18 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.live_view
 	$(PYTHON) -m bench.learning
 
-# A policy learned end to end: PPO (Stable-Baselines3, torch on the CPU) trains on the lab's
-# task for TRAIN_MINUTES in a venv of its own beside the interface builds (torch and SB3 never
-# enter .venv), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200
-# held-out courses, then grade_lab grades it driving the bundled courses through ROS, in lockstep.
+# A policy learned end to end: PPO (skrl on JAX, on the CPU) trains on the lab's task for
+# TRAIN_MINUTES in a venv of its own beside the interface builds (JAX and skrl never enter
+# .venv; JAX's wheels on PyPI are CPU-only, so no CUDA package is fetched: about 200 MB in
+# all), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200 held-out
+# courses, then grade_lab grades it driving the bundled courses through ROS, in lockstep.
 TRAIN_MINUTES ?= 15
+TRAINING_STACK := 'skrl[jax]==2.1.1' jax==0.10.2 jaxlib==0.10.2
 train: install
 	test -x "$(TRAIN_VENV)/bin/python" || python3 -m venv "$(TRAIN_VENV)"
 	rm -rf build
-	"$(TRAIN_VENV)/bin/python" -m pip install --quiet --disable-pip-version-check torch==2.13.0 \
-		stable-baselines3 . 2> >(grep -v 'is ignored' >&2)
+	"$(TRAIN_VENV)/bin/python" -m pip install --quiet --disable-pip-version-check \
+		$(TRAINING_STACK) . 2> >(grep -v 'is ignored' >&2)
 	cd / && "$(TRAIN_VENV)/bin/python" "$(CURDIR)/scripts/train_policy.py" \
 		--minutes $(TRAIN_MINUTES) --output "$(CURDIR)/waypoints_ppo.npz"
 	PATH="$(abspath $(VENV))/bin:$$PATH" grade_lab --courses waypoints --jobs 2 --lockstep \

@@ -1,68 +1,129 @@
 """
-Train PPO (Stable-Baselines3) on the lab's task, then save the policy for numpy alone.
+Train PPO (skrl on JAX, CPU) on the lab's task, then save the policy for numpy alone.
 
-Run by `make train` in a venv of its own (torch and Stable-Baselines3 never enter the package's
-venv). It trains on WaypointsVectorEnv's robots through the SB3 adapter for a wall-clock budget,
-saves the policy network's weights with observations and the actions torch gave for them
-(numpy_policy.py runs them; a test checks that it gives the same actions), and reports the
-success rate of that numpy policy on held-out seeded courses.
+Run by `make train` in a venv of its own (JAX and skrl never enter the package's venv; no
+CUDA package either: JAX's CPU wheels come from PyPI as they are). It trains on
+WaypointsVectorEnv's robots (the task's course distribution: turns in place, revisits, short
+legs, legs across the map, waypoints near walls) for a wall-clock budget, saves the policy
+network's weights with observations and the actions JAX gave for them (numpy_policy.py runs
+them; a test checks that it gives the same actions), and reports the success rate of that
+numpy policy on held-out seeded courses.
 
-    python scripts/train_policy.py [--minutes 15] [--output policy.npz]
+    python scripts/train_policy.py [--minutes 15] [--output policy.npz] [--robots 256]
 """
 
 import argparse
+import os
+import sys
+import tempfile
 import time
 
-import numpy as np
-from stable_baselines3 import PPO
-from stable_baselines3.common.callbacks import BaseCallback
-from stable_baselines3.common.vec_env import VecMonitor
-import torch
-from waypoint_lab.learning.numpy_policy import NumpyPolicy, success_rate
-from waypoint_lab.learning.sb3_vec_env import sb3_vec_env
+# Before JAX loads: the CPU, and compiled programs kept across runs beside the venv.
+os.environ.setdefault('JAX_PLATFORMS', 'cpu')
+os.environ.setdefault('JAX_COMPILATION_CACHE_DIR', os.path.join(sys.prefix, 'jax-cache'))
 
-ROBOTS = 32
+from gymnasium.vector import AutoresetMode  # noqa: E402
+import jax  # noqa: E402
+import numpy as np  # noqa: E402
+from skrl import config  # noqa: E402
+from skrl.agents.jax.ppo import PPO  # noqa: E402
+from skrl.envs.wrappers.jax import wrap_env  # noqa: E402
+from skrl.memories.jax import RandomMemory  # noqa: E402
+from skrl.trainers.jax.sequential import SequentialTrainerCfg  # noqa: E402
+from skrl.utils import set_seed  # noqa: E402
+from skrl.utils.model_instantiators.jax import deterministic_model, gaussian_model  # noqa: E402
+from waypoint_lab.learning.numpy_policy import NumpyPolicy, success_rate  # noqa: E402
+from waypoint_lab.learning.vector_env import WaypointsVectorEnv  # noqa: E402
+
+ROLLOUTS = 64
+MINIBATCH = 4096
+HIDDEN = [64, 64]
 CHECKED_OBSERVATIONS = 64
 EVALUATION_SEED = 1_000_000
 
 
-class WallClockBudget(BaseCallback):
-    """Stops training once its minutes are spent, printing progress every minute."""
+def build(robots, folder):
+    """Return (env, agent): PPO with tanh MLPs as Stable-Baselines3's; skrl writes in folder."""
+    config.jax.backend = 'jax'
+    set_seed(0)
+    env = wrap_env(WaypointsVectorEnv(robots, autoreset_mode=AutoresetMode.SAME_STEP),
+                   wrapper='gymnasium')
+    network = [{'name': 'net', 'input': 'OBSERVATIONS', 'layers': HIDDEN,
+                'activations': 'tanh'}]
+    spaces = {'observation_space': env.observation_space, 'action_space': env.action_space}
+    policy = gaussian_model(**spaces, clip_actions=True, initial_log_std=-0.5,
+                            network=network, output='ACTIONS')
+    value = deterministic_model(**spaces, network=network, output='ONE')
+    policy.init_state_dict(role='policy')
+    value.init_state_dict(role='value')
+    agent = PPO(models={'policy': policy, 'value': value},
+                memory=RandomMemory(memory_size=ROLLOUTS, num_envs=env.num_envs), **spaces,
+                cfg={'rollouts': ROLLOUTS, 'learning_epochs': 5,
+                     'mini_batches': max(1, ROLLOUTS * robots // MINIBATCH),
+                     'learning_rate': 3e-4, 'discount_factor': 0.99, 'gae_lambda': 0.95,
+                     'ratio_clip': 0.2, 'value_loss_scale': 0.5, 'grad_norm_clip': 0.5,
+                     'entropy_loss_scale': 0.0,
+                     'experiment': {'directory': folder, 'write_interval': 0,
+                                    'checkpoint_interval': 0}})
+    return env, agent
 
-    def __init__(self, minutes):
-        super().__init__()
-        self._end = time.monotonic() + 60.0 * minutes
-        self._shown = time.monotonic()
 
-    def _on_step(self):
-        if time.monotonic() - self._shown > 60.0:
-            self._shown = time.monotonic()
-            episodes = self.model.ep_info_buffer
-            print(f'  {self.num_timesteps:,} steps; last {len(episodes)} episodes: return '
-                  f'{np.mean([episode["r"] for episode in episodes]):.1f}, length '
-                  f'{np.mean([episode["l"] for episode in episodes]):.0f} steps', flush=True)
-        return time.monotonic() < self._end
+def policy_mean(agent, observations):
+    """Return the policy's deterministic action (its mean) for observations, within bounds."""
+    policy = agent.models['policy']
+    mean, _ = policy.apply(policy.state_dict.params, {'observations': observations}, 'policy')
+    space = policy.action_space
+    return np.clip(np.asarray(mean), space.low, space.high)
 
 
-def export(model, env, path):
+def export(agent, env, path):
     """Save the policy's layers (tanh MLP, then the action mean) and a check of them."""
-    policy = model.policy
-    layers = [module for module in policy.mlp_extractor.policy_net if hasattr(module, 'weight')]
-    layers.append(policy.action_net)
-    # Observations the policy meets driving: a reset's, then its first steps'.
-    observations = [env.reset()]
-    while sum(map(len, observations)) < CHECKED_OBSERVATIONS:
-        env.step_async(model.predict(observations[-1], deterministic=True)[0])
-        observations.append(env.step_wait()[0])
-    observations = np.concatenate(observations)[:CHECKED_OBSERVATIONS]
-    actions = model.predict(observations, deterministic=True)[0]
-    arrays = {f'weight{index}': layer.weight.detach().numpy() for index, layer in
-              enumerate(layers)}
-    arrays.update({f'bias{index}': layer.bias.detach().numpy() for index, layer in
-                   enumerate(layers)})
-    np.savez_compressed(path, **arrays, low=env.action_space.low, high=env.action_space.high,
+    layers = agent.models['policy'].state_dict.params['params']['net_container']
+    names = sorted(layers, key=lambda name: int(name.split('_')[1]))
+    arrays = {}
+    for index, name in enumerate(names):
+        arrays[f'weight{index}'] = np.asarray(layers[name]['kernel']).T
+        arrays[f'bias{index}'] = np.asarray(layers[name]['bias'])
+    observations, _ = env.reset()
+    observations = np.asarray(observations)[:CHECKED_OBSERVATIONS]
+    space = agent.models['policy'].action_space
+    np.savez_compressed(path, **arrays, low=space.low, high=space.high,
                         check_observations=observations.astype(np.float32),
-                        check_actions=actions.astype(np.float32))
+                        check_actions=policy_mean(agent, observations).astype(np.float32))
+
+
+def train(env, agent, minutes):
+    """Step and learn until the budget is spent; print progress every minute; return steps."""
+    agent.init(trainer_cfg=SequentialTrainerCfg(timesteps=10 ** 9, headless=True))
+    agent.enable_training_mode(True)
+    observations, _ = env.reset()
+    end = time.monotonic() + 60.0 * minutes
+    shown, step, returns, finished = time.monotonic(), 0, [], 0
+    episode_return = np.zeros(env.num_envs)
+    while time.monotonic() < end:
+        agent.pre_interaction(timestep=step, timesteps=10 ** 9)
+        actions = agent.act(observations, None, timestep=step, timesteps=10 ** 9)[0]
+        next_observations, rewards, terminated, truncated, infos = env.step(actions)
+        agent.record_transition(observations=observations, states=None, actions=actions,
+                                rewards=rewards, next_observations=next_observations,
+                                next_states=None, terminated=terminated, truncated=truncated,
+                                infos=infos, timestep=step, timesteps=10 ** 9)
+        agent.post_interaction(timestep=step, timesteps=10 ** 9)
+        observations = next_observations
+        episode_return += np.asarray(rewards).ravel()
+        done = np.asarray(terminated).ravel().astype(bool)
+        ended = done | np.asarray(truncated).ravel().astype(bool)
+        finished += int(done.sum())
+        returns += episode_return[ended].tolist()
+        episode_return[ended] = 0.0
+        step += 1
+        if time.monotonic() - shown > 60.0:
+            shown = time.monotonic()
+            print(f'  {step * env.num_envs:,} steps; {len(returns)} episodes since last: '
+                  f'return {np.mean(returns) if returns else float("nan"):.1f}, '
+                  f'{finished / max(len(returns), 1):.0%} finished', flush=True)
+            returns, finished = [], 0
+    return step * env.num_envs
 
 
 def main():
@@ -70,20 +131,19 @@ def main():
     parser.add_argument('--minutes', type=float, default=15.0)
     parser.add_argument('--output', default='policy.npz')
     parser.add_argument('--courses', type=int, default=200)
+    parser.add_argument('--robots', type=int, default=256)
     options = parser.parse_args()
-    torch.set_num_threads(1)
-    env = VecMonitor(sb3_vec_env(ROBOTS))
-    env.seed(0)
-    model = PPO('MlpPolicy', env, n_steps=256, batch_size=2048, n_epochs=5, learning_rate=3e-4,
-                gamma=0.99, gae_lambda=0.95, clip_range=0.2, ent_coef=0.0,
-                policy_kwargs={'net_arch': [64, 64], 'log_std_init': -0.5}, seed=0, verbose=0,
-                device='cpu')
-    started = time.monotonic()
-    print(f'Training PPO on {ROBOTS} robots for {options.minutes:g} min', flush=True)
-    model.learn(total_timesteps=10 ** 9, callback=WallClockBudget(options.minutes))
-    print(f'trained: {model.num_timesteps:,} steps in {time.monotonic() - started:.0f} s',
-          flush=True)
-    export(model, env, options.output)
+    folder = tempfile.TemporaryDirectory(prefix='train_policy-')
+    env, agent = build(options.robots, folder.name)
+    print(f'Training PPO (skrl, JAX {jax.__version__} on the CPU) on {options.robots} robots '
+          f'for {options.minutes:g} min', flush=True)
+    started, cpu = time.monotonic(), time.process_time()
+    steps = train(env, agent, options.minutes)
+    wall, cpu = time.monotonic() - started, time.process_time() - cpu
+    print(f'trained: {steps:,} steps in {wall:.0f} s ({steps / wall:,.0f} steps a second, '
+          f'{steps / cpu:,.0f} per CPU-second)', flush=True)
+    export(agent, env, options.output)
+    folder.cleanup()
     policy = NumpyPolicy(options.output)
     rate = success_rate(policy, options.courses, EVALUATION_SEED)
     print(f'success (FINISHED within the step limit) on {options.courses} held-out courses: '

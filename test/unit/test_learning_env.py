@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from waypoint_controller.control_law import PlannedLaw
 import waypoint_lab.learning  # noqa: F401  (registers the environments)
+from waypoint_lab.learning import MAX_EPISODE_STEPS
 from waypoint_lab.learning.task import Courses, TaskSettings, WAYPOINT
 from waypoint_lab.learning.vector_env import WaypointsVectorEnv
 from waypoint_lab.learning.waypoints_env import WaypointsEnv
@@ -18,7 +19,7 @@ from waypoint_lab.waypoints import Waypoint
 def test_gymnasiums_checker_passes():
     env = gym.make('waypoint_lab/Waypoints-v0')
     check_env(env.unwrapped, skip_render_check=True)
-    assert env.spec.max_episode_steps == 1000
+    assert env.spec.max_episode_steps == MAX_EPISODE_STEPS
     assert env.observation_space.shape == (69,) and env.action_space.shape == (2,)
 
 

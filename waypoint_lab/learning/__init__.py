@@ -16,7 +16,7 @@ stdr_lite node with any policy, through ROS (policy_controller.py).
 
 import gymnasium as gym
 
-MAX_EPISODE_STEPS = 1000
+MAX_EPISODE_STEPS = 2000
 
 gym.register(id='waypoint_lab/Waypoints-v0',
              entry_point='waypoint_lab.learning.waypoints_env:WaypointsEnv',

@@ -10,6 +10,7 @@ cannot pass through each other; each starts clear of the others. No ROS here.
 """
 
 from dataclasses import replace
+import math
 
 import numpy as np
 from stdr_lite.core.entities import SimulationSettings
@@ -17,8 +18,8 @@ from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.world import PlacementError
 from waypoint_lab.learning import checks
-from waypoint_lab.learning.task import (Courses, GOAL_FEATURES, observe, sample_course,
-                                        TaskSettings)
+from waypoint_lab.learning.course_distribution import sample_course, sample_position
+from waypoint_lab.learning.task import Courses, GOAL_FEATURES, observe, TaskSettings
 from waypoint_lab.rules import START
 
 
@@ -71,6 +72,17 @@ class Arena:
             self._poses = self.simulation.robot_poses()
         return self._poses
 
+    @property
+    def bounds(self) -> tuple:
+        """Return the map's bounding box in the world: (x_min, y_min, x_max, y_max)."""
+        grid = self.simulation.occupancy_map
+        width, height = grid.extent
+        x, y, yaw = grid.origin
+        corners = [(x + u * math.cos(yaw) - v * math.sin(yaw), y + u * math.sin(yaw)
+                    + v * math.cos(yaw)) for u in (0.0, width) for v in (0.0, height)]
+        xs, ys = zip(*corners)
+        return min(xs), min(ys), max(xs), max(ys)
+
     def is_free(self, x: float, y: float, clearance: float | None = None) -> bool:
         """Whether a waypoint (or a start) at (x, y) keeps clearance (the task's) from walls."""
         clearance = self._clearance if clearance is None else clearance
@@ -83,8 +95,8 @@ class Arena:
         """Return is_free for robot's start: clear of walls and, if bodies meet, other robots."""
         others = np.delete(self.poses[:, :2], robot, axis=0) if self.bodies_meet else None
 
-        def free(x, y):
-            return self.is_free(x, y) and (
+        def free(x, y, clearance):
+            return self.is_free(x, y, clearance) and (
                 others is None or not len(others)
                 or np.hypot(others[:, 0] - x, others[:, 1] - y).min() > 2 * self._clearance)
         return free
@@ -104,14 +116,16 @@ class Arena:
         if start is None:
             start = START
             if self.task.random_start:
-                start = sample_course(rng, self._clear_of_others(robot), START, replace(
-                    self.task, waypoints=1, course_step=20.0))[0]
+                x, y = sample_position(rng, self._clear_of_others(robot), self.bounds,
+                                       self._clearance, START[:2])
+                start = (x, y, rng.uniform(-math.pi, math.pi))
         else:
             start = checks.poses(f'{name}: start', start)
         start = np.asarray(start, dtype=float)
         waypoints = options.get('waypoints')
         if waypoints is None:
-            waypoints = sample_course(rng, self.is_free, start, self.task)
+            waypoints = sample_course(rng, self.is_free, start, self.task, self.bounds,
+                                      self._radius)
         else:
             waypoints = checks.poses(f'{name}: waypoints', waypoints, rows=self.task.waypoints)
             for number, (x, y, _) in enumerate(waypoints, 1):

@@ -40,9 +40,9 @@ class TaskSettings:
     """
     One task: how many waypoints, the goal set, the laser seen, the speeds allowed.
 
-    Waypoints are drawn at least clearance from any wall and at most course_step from the
-    previous one (or the start); the start is drawn too unless random_start is False (the
-    lab's START then).
+    Courses are drawn as course_distribution.py says: legs from none (a turn in place) to
+    across the map, revisits, waypoints clearance from the walls or, some, near_wall; the
+    start is drawn too unless random_start is False (the lab's START then).
     """
 
     waypoints: int = 3
@@ -52,6 +52,7 @@ class TaskSettings:
     max_linear_speed: float = MAX_LINEAR_SPEED
     max_angular_speed: float = MAX_ANGULAR_SPEED
     clearance: float = 0.4
+    near_wall: float = 0.05
     course_step: float = 3.0
     random_start: bool = True
 
@@ -187,24 +188,3 @@ def _judge(poses, stalled, waypoints, next_waypoint, errors, distance_tolerance,
                                                              goal[2])
         finished[robot] = hit and next_waypoint[robot] > last
     return went_on
-
-
-def sample_course(rng: np.random.Generator, is_free, start: tuple, settings: TaskSettings,
-                  attempts: int = 10_000) -> np.ndarray:
-    """
-    Draw a course of settings.waypoints waypoints (K x 3), each within reach of the last.
-
-    is_free(x, y) says whether a footprint of the task's clearance fits at (x, y). A waypoint
-    that cannot be placed after many attempts is placed at the previous one (turning there).
-    """
-    waypoints = []
-    x, y = start[0], start[1]
-    for _ in range(settings.waypoints):
-        for _ in range(attempts):
-            angle, reach = rng.uniform(-math.pi, math.pi), rng.uniform(0.5, settings.course_step)
-            candidate = (x + reach * math.cos(angle), y + reach * math.sin(angle))
-            if is_free(*candidate):
-                x, y = candidate
-                break
-        waypoints.append((x, y, rng.uniform(-math.pi, math.pi)))
-    return np.array(waypoints)
