@@ -26,7 +26,8 @@ from typing import Protocol
 from simple_robot_control.pose import wrap_angle
 from simple_robot_control.validation import shorten
 from waypoint_lab.course import goal_error, in_goal_set
-from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
+                                MAX_LINEAR_SPEED)
 from waypoint_lab.status import aborted, finished, started, waypoint_reached
 from waypoint_lab.waypoints import Waypoint
 
@@ -157,8 +158,8 @@ class RunRules:
 
     distance_tolerance: float = DISTANCE_TOLERANCE
     angle_tolerance: float = ANGLE_TOLERANCE
-    max_linear_speed: float = 0.5
-    max_angular_speed: float = 1.0
+    max_linear_speed: float = MAX_LINEAR_SPEED
+    max_angular_speed: float = MAX_ANGULAR_SPEED
     stall_timeout: float = 10.0
     control_period_ns: int = 50_000_000
 

@@ -7,7 +7,7 @@ from waypoint_lab.learning.numpy_policy import (bundled_policy_file, NumpyPolicy
 from waypoint_lab.learning.waypoints_env import WaypointsEnv
 
 
-def test_the_numpy_runner_gives_the_actions_torch_gave():
+def test_the_numpy_runner_gives_the_actions_the_training_library_gave():
     policy = NumpyPolicy()
     assert len(policy.check_observations) == 64
     actions = policy(policy.check_observations)

@@ -65,7 +65,8 @@ def _leg_end(rng, is_free, origin, reach, bounds, clearance):
             candidate = (rng.uniform(x_min, x_max), rng.uniform(y_min, y_max))
         else:
             angle, length = rng.uniform(-math.pi, math.pi), rng.uniform(0.0, reach)
-            candidate = (origin[0] + length * math.cos(angle), origin[1] + length * math.sin(angle))
+            candidate = (origin[0] + length * math.cos(angle),
+                         origin[1] + length * math.sin(angle))
         if is_free(*candidate, clearance):
             return candidate
     return origin
