@@ -46,10 +46,10 @@ bench: install $(VENV)/.test-dependencies
 
 # A policy learned end to end: PPO (skrl on JAX, on the CPU) trains on the lab's task for
 # TRAIN_MINUTES in a venv of its own beside the interface builds (JAX and skrl never enter
-# .venv; JAX's wheels on PyPI are CPU-only, so no CUDA package is fetched: about 200 MB in
-# all), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200 held-out
-# courses, then grade_lab grades it driving the bundled courses through ROS, in lockstep.
-TRAIN_MINUTES ?= 15
+# .venv; JAX's wheels on PyPI are CPU-only, so no CUDA package is fetched: 332 MB in all
+# from PyPI alone), writes waypoints_ppo.npz (numpy alone runs it), prints its success on 200
+# held-out courses, then grade_lab grades it driving the bundled courses through ROS, in lockstep.
+TRAIN_MINUTES ?= 20
 TRAINING_STACK := 'skrl[jax]==2.1.1' jax==0.10.2 jaxlib==0.10.2
 train: install
 	test -x "$(TRAIN_VENV)/bin/python" || python3 -m venv "$(TRAIN_VENV)"

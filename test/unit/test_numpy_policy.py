@@ -43,3 +43,30 @@ def test_success_is_the_share_of_courses_finished():
         return np.zeros((len(observations), 2))
     assert success_rate(stand_still, courses=4, max_episode_steps=20) == 0.0
     assert bundled_policy_file().endswith('waypoints_ppo.npz')
+
+
+def _one_layer_file(path, **extra):
+    np.savez(path, weight0=np.eye(2), bias0=np.zeros(2), low=np.full(2, -9.0),
+             high=np.full(2, 9.0), check_observations=np.zeros((1, 2)),
+             check_actions=np.zeros((1, 2)), **extra)
+    return str(path)
+
+
+def test_observations_are_standardized_as_the_file_says(tmp_path):
+    path = _one_layer_file(tmp_path / 'policy.npz', observation_mean=np.array([1.0, -2.0]),
+                           observation_scale=np.array([2.0, 0.5]), observation_clip=3.0)
+    policy = NumpyPolicy(path)
+    np.testing.assert_allclose(policy(np.array([5.0, -1.5])), [2.0, 1.0])
+    # Beyond clip standard deviations the input is held at the clip, as in training.
+    np.testing.assert_allclose(policy(np.array([101.0, -102.0])), [3.0, -3.0])
+    assert NumpyPolicy(_one_layer_file(tmp_path / 'plain.npz'))(np.array([5.0, 1.0]))[0] == 5.0
+
+
+@pytest.mark.parametrize('mean, scale, clip', [
+    (np.zeros(3), np.ones(3), 5.0), (np.zeros(2), np.zeros(2), 5.0),
+    (np.array([np.nan, 0.0]), np.ones(2), 5.0), (np.zeros(2), np.ones(2), 0.0)])
+def test_a_standardization_that_does_not_fit_is_one_line(tmp_path, mean, scale, clip):
+    path = _one_layer_file(tmp_path / 'policy.npz', observation_mean=mean,
+                           observation_scale=scale, observation_clip=clip)
+    with pytest.raises(PolicyFileError, match=rf'^{path}: not a policy file: its observation'):
+        NumpyPolicy(path)

@@ -4,7 +4,10 @@ A trained policy run with numpy alone: no training library is needed to drive wi
 The file (.npz) holds a tanh MLP's layers (weight0, bias0, ...: the hidden layers, then the
 layer giving the action's mean), the action's bounds, and observations with the actions the
 training library gave for them (check_observations, check_actions), so that anyone can check
-this runner against it. scripts/train_policy.py writes such files; the bundled one is
+this runner against it. It may also hold how observations are standardized before the first
+layer (observation_mean, observation_scale, observation_clip: the observation less the mean,
+divided by the scale, within +-clip), as running statistics of training left them.
+scripts/train_policy.py writes such files; the bundled one is
 waypoint_lab/learning/policies/waypoints_ppo.npz.
 """
 
@@ -41,6 +44,11 @@ class NumpyPolicy:
                 self.low, self.high = data['low'], data['high']
                 self.check_observations = data['check_observations']
                 self.check_actions = data['check_actions']
+                self.standardization = (
+                    (data['observation_mean'].astype(np.float64),
+                     data['observation_scale'].astype(np.float64),
+                     float(data['observation_clip']))
+                    if 'observation_mean' in data.files else None)
         except (OSError, EOFError, ValueError, KeyError, zipfile.BadZipFile) as error:
             reason = (error.strerror if isinstance(error, OSError) and error.strerror
                       else f'no numpy .npz of {LAYOUT}')
@@ -48,9 +56,19 @@ class NumpyPolicy:
         if not self.layers or any(weight.ndim != 2 or bias.shape != weight.shape[:1]
                                   for weight, bias in self.layers):
             raise PolicyFileError(f'{path}: not a policy file: its layers do not fit')
+        if self.standardization is not None:
+            mean, scale, clip = self.standardization
+            inputs = self.layers[0][0].shape[1:]
+            if mean.shape != inputs or scale.shape != inputs or not (
+                    np.all(scale > 0.0) and np.all(np.isfinite(mean)) and clip > 0.0):
+                raise PolicyFileError(f'{path}: not a policy file: its observation '
+                                      'standardization does not fit its first layer')
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
         values = np.asarray(observation, dtype=np.float64)
+        if self.standardization is not None:
+            mean, scale, clip = self.standardization
+            values = np.clip((values - mean) / scale, -clip, clip)
         for weight, bias in self.layers[:-1]:
             values = np.tanh(values @ weight.T + bias)
         weight, bias = self.layers[-1]
