@@ -70,7 +70,8 @@ demo-policy: install
 # learning task's passes) goes into the tree's numba cache first (as install does for the
 # installed copy), not in the middle of a test.
 WARM_COMPILED := -c 'from stdr_lite.core.warm_up import compile_core; compile_core(); \
-	from waypoint_lab.learning.task import compile_task; compile_task()'
+	from waypoint_lab.learning.task import compile_task; compile_task(); \
+	from courseworks.rays import warm_up; warm_up()'
 
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)
@@ -97,8 +98,8 @@ check-stdr: install $(VENV)/.test-dependencies
 # Reinstalled only when a file the package is built from changed (every target runs install:
 # a reinstall each time cost 10-40 s and broke tools running from the venv meanwhile).
 PACKAGE_SOURCES := setup.py setup.cfg package.xml $(shell find simple_robot_control stdr_lite \
-	waypoint_lab waypoint_controller lab_grader config maps robots obstacles launch rviz resource \
-	resources waypoints -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
+	waypoint_lab waypoint_controller lab_grader courseworks config maps robots obstacles launch \
+	rviz resource resources waypoints scenarios -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
 install: $(VENV)/.installed
 $(VENV)/.installed: $(VENV)/.dependencies $(VENV)/.interfaces $(PACKAGE_SOURCES)
 	rm -rf build

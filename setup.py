@@ -32,7 +32,7 @@ setup(
     version='0.1.0',
     packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
                                     'waypoint_lab', 'waypoint_lab.*', 'waypoint_controller',
-                                    'lab_grader']),
+                                    'lab_grader', 'courseworks']),
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),
@@ -42,6 +42,7 @@ setup(
         (f'{SHARE}/maps', sorted(glob('maps/*.yaml') + glob('maps/*.pgm'))),
         (f'{SHARE}/launch', sorted(glob('launch/*.launch.py'))),
         (f'{SHARE}/waypoints', sorted(glob('waypoints/*.txt'))),
+        (f'{SHARE}/scenarios', sorted(glob('scenarios/*.txt') + glob('scenarios/*.yaml'))),
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml') + glob('robots/*.xml'))),
         *((f'{SHARE}/{folder}', sorted(glob(f'{folder}/*.xml')))
           for folder in sorted(glob('resources/*'))),

@@ -3,7 +3,8 @@ The courses a submission is graded on: waypoint files, each with an optional YAM
 
 A course is a waypoint file of the lab's format (course.txt). A YAML file of the same name
 (course.yaml) may say where the robot starts, in which world, how long the submission has,
-what the course is worth and which limits are graded; anything it leaves out takes the
+what the course is worth, which limits are graded, and which task it asks with what
+thresholds (courseworks/tasks.py); anything it leaves out takes the
 grader's defaults, the lab's own (waypoint_lab/course.py): the bundled lab_room, the robot at
 the lab's start, the lab's d and t. Angles are in degrees, as in waypoint files. No ROS here.
 """
@@ -14,6 +15,7 @@ import math
 import os
 from pathlib import Path
 
+from courseworks.tasks import check_task, TaskError, thresholds_for
 from simple_robot_control.input_files import read_yaml
 from simple_robot_control.share import bundled_files
 from simple_robot_control.validation import Bounds, describe
@@ -134,7 +136,20 @@ def _with_settings(course, path):
             hint = f'; did you mean {close[0]}?' if close else f' (known: {", ".join(_FIELDS)})'
             raise CourseError(f'{source}: unknown field {describe(key)}{hint}')
         changes.update(_FIELDS[key](source, value, path.parent))
+    try:
+        # A course's thresholds are its task's: read once the task is known.
+        changes['thresholds'] = thresholds_for(changes.get('task', course.task),
+                                               settings.get('thresholds'))
+    except TaskError as error:
+        raise CourseError(f'{source}: {error}') from None
     return replace(course, **changes)
+
+
+def _task(source, value):
+    try:
+        return {'task': check_task(value)}
+    except TaskError as error:
+        raise CourseError(f'{source}: {error}') from None
 
 
 _FIELDS = {
@@ -154,6 +169,8 @@ _FIELDS = {
                                                               GRADED_LIMIT)},
     'max_path_length': lambda source, value, _: {'max_path_length': _number(
         source, 'max_path_length', value, GRADED_LIMIT)},
+    'task': lambda source, value, _: _task(source, value),
+    'thresholds': lambda source, value, _: {},
 }
 
 

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 from simple_robot_control.pose import wrap_angle, wrap_number
-from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, START, TIME_LIMIT
+from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, START, TIME_LIMIT,
+                                WAYPOINTS_TASK)
 from waypoint_lab.waypoints import Waypoint
 
 
@@ -27,7 +28,8 @@ class Course:
 
     map_file and robot_file are empty for the bundled lab_room and lab robot; max_time and
     max_path_length, when set, are graded limits; waypoint_file and settings_file say where the
-    course was read from, if from files.
+    course was read from, if from files. task names what the course asks (the lab's waypoints,
+    or a coursework's), thresholds that task's limits as (name, value) pairs.
     """
 
     name: str
@@ -43,6 +45,8 @@ class Course:
     max_path_length: float | None = None
     waypoint_file: Path | None = None
     settings_file: Path | None = field(default=None, compare=False)
+    task: str = WAYPOINTS_TASK
+    thresholds: tuple[tuple[str, float], ...] = ()
 
 
 def goal_error(x: float, y: float, theta: float, goal_x: float, goal_y: float,

@@ -202,6 +202,9 @@ def test_reset_by_scope_and_unknown_scopes(world, executor):
     assert simulation.pose('robot0') == (1.0, 2.0, 0.0) and simulation.step_count < 5
 
 
+BUNDLED_WORLDS = ['factory', 'lab_room', 'plus_room', 'simple_walls']
+
+
 def pose_at(x, y):
     pose = PoseStamped()
     pose.pose.position.x, pose.pose.position.y = x, y
@@ -213,12 +216,12 @@ def test_worlds_are_maps_loaded_and_unloaded(world, executor, tmp_path):
     simulator, watcher, call = world
     worlds = call(GetAvailableWorlds, 'get_available_worlds',
                   additional_sources=[str(tmp_path)])
-    assert [entry.name for entry in worlds.worlds] == ['lab_room']
+    assert [entry.name for entry in worlds.worlds] == BUNDLED_WORLDS
     small = write_map(tmp_path, walled_room(30, 30), name='small')
     big = write_map(tmp_path, walled_room(500, 300), name='big')
     assert [entry.name for entry in call(GetAvailableWorlds, 'get_available_worlds',
                                          additional_sources=[str(tmp_path)]).worlds] == [
-        'lab_room', 'big', 'small']
+        *BUNDLED_WORLDS, 'big', 'small']
     refused = call(LoadWorld, 'load_world', uri=str(small)).result
     assert refused.result == Result.RESULT_OPERATION_FAILED and 'robot0' in refused.error_message
     assert simulator.simulation.occupancy_map.width == 400

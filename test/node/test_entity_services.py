@@ -336,13 +336,14 @@ def test_spawnables_list_the_bundled_files_and_any_folder(world, tmp_path):
     assert answer.result.result == OK and '/no/such' in answer.result.error_message
     (tmp_path / 'scanner.xml').write_text(TURTLE_LIKE)
     uris = [spawnable.uri for spawnable in answer.spawnables]
-    assert uris[:4] == ['lab_robot', 'moving_obstacle', 'obstacle', 'turtlebot3_burger']
-    assert uris[4:] == [str(tmp_path / 'pillar.yaml')]
-    pillar = answer.spawnables[4]
+    assert uris[:5] == ['lab_robot', 'moving_obstacle', 'obstacle', 'small_laser_robot',
+                        'turtlebot3_burger']
+    assert uris[5:] == [str(tmp_path / 'pillar.yaml')]
+    pillar = answer.spawnables[5]
     assert pillar.spawn_bounds.type == Bounds.TYPE_SPHERE
     assert pillar.spawn_bounds.points[1].x == 0.4
     answer = call(GetSpawnables, 'get_spawnables', sources=[str(tmp_path)])
-    assert [spawnable.uri for spawnable in answer.spawnables][4:] == [
+    assert [spawnable.uri for spawnable in answer.spawnables][5:] == [
         str(tmp_path / 'pillar.yaml'), str(tmp_path / 'scanner.xml')]
 
 

@@ -85,7 +85,8 @@ def test_a_refusal_is_one_line_and_exit_code_1(simulator):
 def test_features_worlds_and_spawnables_are_listed(simulator):
     features = answer_of('features')
     assert 'step_simulation_action' in features and 'stdr_lite_obstacle_yaml' in features
-    assert answer_of('worlds').startswith('lab_room: ')
+    worlds = answer_of('worlds')
+    assert worlds.startswith('factory: ') and '\nlab_room: ' in worlds
     assert answer_of('world').startswith('lab_room: ')
     assert 'moving_obstacle: moving obstacle' in answer_of('spawnables')
 

@@ -21,7 +21,7 @@ from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
-            'lab_grader')
+            'lab_grader', 'courseworks')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
@@ -40,7 +40,8 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
-        'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')]
+        'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
+    'courseworks/*.py']
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -80,7 +81,8 @@ ALLOWED = {
     'stdr_lite': {'simple_robot_control'},
     'waypoint_lab': {'simple_robot_control', 'stdr_lite'},
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
-    'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab'},
+    'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},
+    'courseworks': {'simple_robot_control', 'waypoint_lab'},
 }
 
 

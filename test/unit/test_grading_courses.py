@@ -61,7 +61,7 @@ def test_the_bundled_map_is_known_by_name(tmp_path):
     ('time_limit: 0\n', 'c.yaml: time_limit must be in [1, 86400], got 0'),
     ('points: -1\n', 'c.yaml: points must be in [0, 1000000], got -1'),
     ('map: nowhere.yaml\n', "c.yaml: map 'nowhere.yaml' is neither a file beside it nor a "
-     'bundled one (lab_room)'),
+     'bundled one (factory, lab_room, plus_room, simple_walls)'),
     ('- a list\n', 'c.yaml: course settings must be a mapping of fields'),
     ('a: [\n', 'c.yaml:2: course settings is not valid YAML'),
     ('distance_tolerance: yes\n', 'distance_tolerance must be in (0, 10], got True'),

@@ -1,0 +1,161 @@
+"""
+The mapping coursework's judge: a submitted occupancy grid against the world.
+
+Judged over what the robot's own laser could have seen along its true path. No ROS here.
+
+A cell the laser could have seen is one some ray of it crossed, from a pose the robot truly
+held, before the first wall (seen free) or the first wall itself (seen wall); the rays follow
+the ground-truth map (rays.py), so nothing hidden behind a wall or out of range counts
+against a submission. A submitted cell reads as nav_msgs/OccupancyGrid's readers take it
+(map_server's thresholds): occupied from 65, free up to 25, unknown otherwise. Walls are
+judged with a cell of slack either way: a wall drawn one cell off is neither false nor missed.
+A map that knows cells no ray could have reached (behind walls, in a room never entered) was
+not built from the laser: the task hides /map, and the judge fails a map that knows too much.
+"""
+
+from dataclasses import dataclass
+import math
+
+from courseworks.grids import Grid
+from courseworks.rays import cast_scan
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy import ndimage
+
+OCCUPIED_FROM = 65
+FREE_UP_TO = 25
+WALL_SLACK_CELLS = 1
+# A mapper's evidence spreads a little past what the rays crossed (noise, odometry drift): cells
+# this far from a seen cell do not count as known beyond sight.
+SIGHT_SLACK_CELLS = 3
+
+
+@dataclass(frozen=True)
+class Laser:
+    """A laser as a robot file gives it: angles in radians, ranges in metres, pose on the robot."""
+
+    min_angle: float
+    max_angle: float
+    num_rays: int
+    max_range: float
+    pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Sight:
+    """What the laser could have seen: seen_free and seen_wall are boolean grids."""
+
+    seen_free: np.ndarray
+    seen_wall: np.ndarray
+
+    @property
+    def seen(self) -> np.ndarray:
+        return self.seen_free | self.seen_wall
+
+
+@dataclass(frozen=True)
+class MapThresholds:
+    """What a map must reach over the seen cells (fractions, 0 to 1)."""
+
+    min_agreement: float = 0.9
+    max_false_walls: float = 0.05
+    max_missed_walls: float = 0.2
+    min_coverage: float = 0.8
+    max_unseen: float = 0.1
+
+
+@dataclass(frozen=True)
+class MapJudgement:
+    """A submitted map's figures, and why it failed (empty when it passed)."""
+
+    agreement: float
+    false_walls: float
+    missed_walls: float
+    coverage: float
+    unseen: float
+    failures: tuple[str, ...]
+
+    @property
+    def passed(self) -> bool:
+        return not self.failures
+
+
+def seen_along(grid: Grid, poses: ArrayLike, laser: Laser) -> Sight:
+    """Return the cells laser could have seen from each robot pose (x, y, theta) of poses."""
+    poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+    free_counts = np.zeros(grid.shape, dtype=np.int32)
+    wall_counts = np.zeros(grid.shape, dtype=np.int32)
+    increment = ((laser.max_angle - laser.min_angle) / (laser.num_rays - 1)
+                 if laser.num_rays > 1 else 0.0)
+    offset_x, offset_y, offset_theta = laser.pose
+    for x, y, theta in poses:
+        sensor_x = x + offset_x * math.cos(theta) - offset_y * math.sin(theta)
+        sensor_y = y + offset_x * math.sin(theta) + offset_y * math.cos(theta)
+        cast_scan(grid.walls, (sensor_x - grid.origin[0]) / grid.resolution,
+                  (sensor_y - grid.origin[1]) / grid.resolution, theta + offset_theta,
+                  laser.min_angle, increment, laser.num_rays, laser.max_range / grid.resolution,
+                  free_counts, wall_counts)
+    return Sight(free_counts > 0, wall_counts > 0)
+
+
+def read_cells(cells: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Return (walls, free) of a submitted grid's values (-1 unknown, 0 to 100 occupancy)."""
+    cells = np.asarray(cells)
+    return cells >= OCCUPIED_FROM, (cells >= 0) & (cells <= FREE_UP_TO)
+
+
+def judge_map(sight: Sight, submitted: ArrayLike,
+              thresholds: MapThresholds = MapThresholds()) -> MapJudgement:
+    """
+    Judge a submitted grid (values as nav_msgs/OccupancyGrid's, the world's shape).
+
+    agreement: of the seen cells the map says something of, the fraction it is right about;
+    false walls: of the seen free cells, the fraction drawn as walls with no wall a cell away;
+    missed walls: of the seen walls, the fraction with no wall drawn within a cell;
+    coverage: of the seen cells, the fraction the map says something of;
+    unseen: of the cells the map says something of, the fraction no ray could have reached.
+    """
+    walls, free = read_cells(submitted)
+    if walls.shape != sight.seen_free.shape:
+        raise ValueError(f'a map of {walls.shape[1]}x{walls.shape[0]} cells, the world has '
+                         f'{sight.seen_free.shape[1]}x{sight.seen_free.shape[0]}')
+    near = np.ones((2 * WALL_SLACK_CELLS + 1,) * 2, dtype=bool)
+    true_wall_near = ndimage.binary_dilation(sight.seen_wall, structure=near)
+    drawn_wall_near = ndimage.binary_dilation(walls, structure=near)
+    seen = sight.seen
+    said = seen & (walls | free)
+    false = sight.seen_free & walls & ~true_wall_near
+    missed = sight.seen_wall & ~drawn_wall_near
+    right = (sight.seen_free & free) | (sight.seen_free & walls & true_wall_near) | (
+        sight.seen_wall & walls) | (sight.seen_wall & free & drawn_wall_near)
+    known = walls | free
+    beyond_sight = ~ndimage.binary_dilation(seen, structure=np.ones(
+        (2 * SIGHT_SLACK_CELLS + 1,) * 2, dtype=bool))
+    figures = {
+        'agreement': _fraction(right & said, said),
+        'false_walls': _fraction(false, sight.seen_free),
+        'missed_walls': _fraction(missed, sight.seen_wall),
+        'coverage': _fraction(said, seen),
+        'unseen': _fraction(known & beyond_sight, known),
+    }
+    failures = []
+    if figures['agreement'] < thresholds.min_agreement:
+        failures.append(f'agreement {figures["agreement"]:.1%} < {thresholds.min_agreement:.0%}')
+    if figures['false_walls'] > thresholds.max_false_walls:
+        failures.append(f'false walls {figures["false_walls"]:.1%} > '
+                        f'{thresholds.max_false_walls:.0%} of the free cells seen')
+    if figures['missed_walls'] > thresholds.max_missed_walls:
+        failures.append(f'missed walls {figures["missed_walls"]:.1%} > '
+                        f'{thresholds.max_missed_walls:.0%} of the walls seen')
+    if figures['coverage'] < thresholds.min_coverage:
+        failures.append(f'coverage {figures["coverage"]:.1%} < {thresholds.min_coverage:.0%} '
+                        'of the cells the laser could have seen')
+    if figures['unseen'] > thresholds.max_unseen:
+        failures.append(f'the map knows {figures["unseen"]:.1%} of its cells where no ray '
+                        "from the robot's path reached: not built from the laser alone")
+    return MapJudgement(failures=tuple(failures), **figures)
+
+
+def _fraction(part, whole):
+    total = int(np.count_nonzero(whole))
+    return float(np.count_nonzero(part)) / total if total else 0.0
