@@ -32,7 +32,8 @@ setup(
     version='0.1.0',
     packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
                                     'waypoint_lab', 'waypoint_lab.*', 'waypoint_controller',
-                                    'lab_grader', 'courseworks']),
+                                    'lab_grader', 'courseworks',
+                                    'coursework_answers']),
     data_files=[
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE_NAME}']),
         (SHARE, ['package.xml']),

@@ -21,7 +21,7 @@ from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
-            'lab_grader', 'courseworks')
+            'lab_grader', 'courseworks', 'coursework_answers')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
@@ -41,7 +41,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
-    'courseworks/*.py']
+    'courseworks/*.py', 'coursework_answers/mapper.py']
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -83,6 +83,7 @@ ALLOWED = {
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
     'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},
     'courseworks': {'simple_robot_control', 'waypoint_lab'},
+    'coursework_answers': {'simple_robot_control', 'waypoint_lab', 'courseworks'},
 }
 
 
