@@ -88,7 +88,28 @@ def path_lengths(free: np.ndarray, start: tuple[int, int], resolution: float) ->
     every cell when start is not free, are inf. The path along cell centres is at most 8% longer
     than the straight-line shortest path (a move of 22.5 degrees costs 1.08 times its length).
     """
+    return _search(free, start, resolution)[0]
+
+
+def shortest_path(free: np.ndarray, start: tuple[int, int], goal: tuple[int, int],
+                  resolution: float) -> list[tuple[int, int]]:
+    """Return the cells of a shortest path from start to goal (as path_lengths), [] if none."""
+    lengths, previous = _search(free, start, resolution)
+    if not np.isfinite(lengths[goal]):
+        return []
+    columns = free.shape[1]
+    cells, here = [], goal[0] * columns + goal[1]
+    while here >= 0:
+        cells.append(divmod(int(here), columns))
+        here = previous[here]
+    return cells[::-1]
+
+
+def _search(free, start, resolution):
+    """Dijkstra from start over free's 8-connected graph: lengths, and each cell's previous."""
     rows, columns = free.shape
+    if not free[start]:
+        return np.full(free.shape, np.inf), np.full(rows * columns, -9999)
     index = np.arange(rows * columns).reshape(rows, columns)
     sources, targets, weights = [], [], []
     for row_step, column_step, length in _MOVES:
@@ -106,7 +127,6 @@ def path_lengths(free: np.ndarray, start: tuple[int, int], resolution: float) ->
     source, target = np.concatenate(sources), np.concatenate(targets)
     graph = coo_matrix((np.concatenate(weights), (source, target)),
                        shape=(rows * columns, rows * columns)).tocsr()
-    if not free[start]:
-        return np.full(free.shape, np.inf)
-    lengths = dijkstra(graph, directed=False, indices=int(index[start]))
-    return lengths.reshape(rows, columns)
+    lengths, previous = dijkstra(graph, directed=False, indices=int(index[start]),
+                                 return_predecessors=True)
+    return lengths.reshape(rows, columns), previous

@@ -41,7 +41,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
-    'courseworks/*.py', 'coursework_answers/mapper.py']
+    'courseworks/*.py', 'coursework_answers/*.py']
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
