@@ -13,6 +13,7 @@ an explorer is judged on where it drove, whatever its map says.
 from dataclasses import dataclass
 
 from courseworks.grids import Grid, region_of
+from courseworks.judgement import Judgement
 from courseworks.mapping import Sight
 import numpy as np
 
@@ -26,16 +27,12 @@ class ExplorationThresholds:
 
 
 @dataclass(frozen=True)
-class ExplorationJudgement:
+class ExplorationJudgement(Judgement):
     """The fraction of the reachable free space seen, the reference's, and why it failed."""
 
     coverage: float
     reference: float
     failures: tuple[str, ...]
-
-    @property
-    def passed(self) -> bool:
-        return not self.failures
 
 
 def reachable_free(grid: Grid, start: tuple[float, float]) -> np.ndarray:

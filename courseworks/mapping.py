@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import math
 
 from courseworks.grids import Grid
+from courseworks.judgement import Judgement
 from courseworks.rays import cast_scan
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,7 +66,7 @@ class MapThresholds:
 
 
 @dataclass(frozen=True)
-class MapJudgement:
+class MapJudgement(Judgement):
     """A submitted map's figures, and why it failed (empty when it passed)."""
 
     agreement: float
@@ -74,10 +75,6 @@ class MapJudgement:
     coverage: float
     unseen: float
     failures: tuple[str, ...]
-
-    @property
-    def passed(self) -> bool:
-        return not self.failures
 
 
 def seen_along(grid: Grid, poses: ArrayLike, laser: Laser) -> Sight:

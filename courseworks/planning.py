@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import math
 
 from courseworks.grids import Grid, inflate, path_lengths, region_of
+from courseworks.judgement import Judgement
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import ndimage
@@ -44,16 +45,12 @@ class Leg:
 
 
 @dataclass(frozen=True)
-class PlanningJudgement:
+class PlanningJudgement(Judgement):
     """The legs, the closest the robot came to a wall (m), and why it failed."""
 
     legs: tuple[Leg, ...]
     clearance: float
     failures: tuple[str, ...]
-
-    @property
-    def passed(self) -> bool:
-        return not self.failures
 
 
 def plan_legs(grid: Grid, radius: float, start: tuple, goals: ArrayLike) -> list[Leg]:
