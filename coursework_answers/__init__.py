@@ -3,5 +3,5 @@ The courseworks' reference answers: what a good submission does, and the baselin
 
 They stand on the courseworks' contract (courseworks/) as the lab's answer stands on the lab's;
 the grader never imports them. mapper.py builds an occupancy grid from the laser; frontiers.py
-picks where the explorer goes next.
+picks where the explorer goes next; planner.py plans a route of straight legs to a goal.
 """
