@@ -33,11 +33,13 @@ def plan_route(grid: Grid, radius: float, start: tuple[float, float, float],
     if not cells:
         return None
     points = [start[:2]] + [grid.centre_of(*cell) for cell in cells[1:-1]] + [goal[:2]]
+    crossed = np.zeros(grown.shape, dtype=np.int32)
     corners = [points[0]]
     here = 0
     while here < len(points) - 1:
         ahead = here + 1
-        while ahead + 1 < len(points) and _clear(grown, grid, points[here], points[ahead + 1]):
+        while ahead + 1 < len(points) and _clear(grown, grid, points[here], points[ahead + 1],
+                                                 crossed):
             ahead += 1
         corners.append(points[ahead])
         here = ahead
@@ -47,13 +49,15 @@ def plan_route(grid: Grid, radius: float, start: tuple[float, float, float],
     return route
 
 
-def _clear(grown, grid, point, to):
-    """Whether the straight segment from point to to crosses no grown wall."""
+def _clear(grown, grid, point, to, crossed):
+    """
+    Whether the straight segment from point to to crosses no grown wall.
+
+    crossed is scratch for the ray's counts, allocated once per route: only whether the ray
+    ran its whole length matters (it stops at the first wall).
+    """
     x, y = ((point[0] - grid.origin[0]) / grid.resolution,
             (point[1] - grid.origin[1]) / grid.resolution)
     length = math.hypot(to[0] - point[0], to[1] - point[1]) / grid.resolution
     angle = math.atan2(to[1] - point[1], to[0] - point[0])
-    crossed = np.zeros(grown.shape, dtype=np.int32)
-    walls = np.zeros(grown.shape, dtype=np.int32)
-    trace(grown, x, y, angle, length, crossed, walls)
-    return not walls.any()
+    return trace(grown, x, y, angle, length, crossed, crossed)[0] >= length

@@ -36,7 +36,7 @@ class ExplorationJudgement(Judgement):
 
 
 def reachable_free(grid: Grid, start: tuple[float, float]) -> np.ndarray:
-    """Return the free cells joined to the start's; GridError-free: empty off the map."""
+    """Return the free cells joined to the start's (none when the start is off the map)."""
     cell = grid.cell_of(*start)
     if cell is None:
         return np.zeros(grid.shape, dtype=bool)

@@ -14,7 +14,7 @@ the last goal reached. A leg's path is the robot's true path between the two goa
 from dataclasses import dataclass
 import math
 
-from courseworks.grids import Grid, inflate, path_lengths, region_of
+from courseworks.grids import Grid, inflate, path_lengths
 from courseworks.judgement import Judgement
 import numpy as np
 from numpy.typing import ArrayLike
@@ -56,19 +56,19 @@ class PlanningJudgement(Judgement):
 def plan_legs(grid: Grid, radius: float, start: tuple, goals: ArrayLike) -> list[Leg]:
     """Return each goal's leg: reachable or not, and its optimum from the goal before it."""
     free = ~inflate(grid, radius)
-    start_cell = grid.cell_of(start[0], start[1])
-    region = (region_of(free, start_cell) if start_cell is not None
-              else np.zeros(grid.shape, dtype=bool))
-    legs, here = [], start_cell
-    lengths = path_lengths(free, here, grid.resolution) if here is not None else None
+    here = grid.cell_of(start[0], start[1])
+    # Every goal reached lies in the start's region: a goal is reachable when a path from the
+    # last one reached (or the start) gets to it.
+    lengths = (path_lengths(free, here, grid.resolution) if here is not None
+               else np.full(grid.shape, np.inf))
+    legs = []
     for number, (x, y, _) in enumerate(np.asarray(goals, dtype=float).reshape(-1, 3), start=1):
         cell = grid.cell_of(x, y)
-        if cell is None or not region[cell] or lengths is None:
+        if cell is None or not np.isfinite(lengths[cell]):
             legs.append(Leg(number, False, math.inf))
             continue
         legs.append(Leg(number, True, float(lengths[cell])))
-        here = cell
-        lengths = path_lengths(free, here, grid.resolution)
+        lengths = path_lengths(free, cell, grid.resolution)
     return legs
 
 
@@ -79,14 +79,19 @@ def clearance_along(grid: Grid, positions: ArrayLike) -> tuple[float, tuple[floa
     Measured from each position's cell centre to the nearest wall cell's edge (half a cell
     short of its centre), so it is within a cell of the true figure.
     """
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    if not len(positions):
+        return math.inf, (math.nan, math.nan)
     distance = ndimage.distance_transform_edt(~grid.walls) * grid.resolution
-    least, where = math.inf, (math.nan, math.nan)
-    for x, y in np.asarray(positions, dtype=float).reshape(-1, 2):
-        cell = grid.cell_of(x, y)
-        here = 0.0 if cell is None else distance[cell] - 0.5 * grid.resolution
-        if here < least:
-            least, where = here, (x, y)
-    return least, where
+    rows, columns = grid.shape
+    column = np.floor((positions[:, 0] - grid.origin[0]) / grid.resolution).astype(int)
+    row = np.floor((positions[:, 1] - grid.origin[1]) / grid.resolution).astype(int)
+    on_map = (row >= 0) & (row < rows) & (column >= 0) & (column < columns)
+    # Off the map counts as in a wall.
+    clearance = np.where(on_map, distance[row.clip(0, rows - 1), column.clip(0, columns - 1)]
+                         - 0.5 * grid.resolution, 0.0)
+    least = int(np.argmin(clearance))
+    return float(clearance[least]), (float(positions[least, 0]), float(positions[least, 1]))
 
 
 def judge_planning(legs: list[Leg], path: ArrayLike, reached_at: dict[int, int],

@@ -99,7 +99,7 @@ def judged_room():
 
 def test_the_laser_sees_the_left_room_and_through_the_door_but_not_behind_walls(judged_room):
     grid, sight = judged_room
-    assert sight.seen_free[30, 20] and sight.seen_wall[30, 40] is not None
+    assert sight.seen_free[30, 20] and sight.seen_free[30, 40]
     assert sight.seen_wall[10, 40] and sight.seen_free[30, 45]
     assert not sight.seen_free[5, 70] and not sight.seen.any(axis=0)[79]
 
