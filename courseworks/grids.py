@@ -36,12 +36,18 @@ class Grid:
     origin: tuple[float, float]
 
     @classmethod
-    def from_map(cls, occupancy_map: OccupancyMap) -> 'Grid':
-        """Take a map's walls (unknown cells count as walls: no robot is sent into them)."""
+    def from_map(cls, occupancy_map: OccupancyMap, unknown_is_wall: bool = True) -> 'Grid':
+        """
+        Take a map's walls; unknown cells count as walls unless unknown_is_wall is False.
+
+        A judge sends no robot into the unknown; a planner on a map still being built tries it.
+        """
         if occupancy_map.origin[2] != 0.0:
             raise GridError(f'{occupancy_map.source}: a rotated map (origin yaw '
                             f'{occupancy_map.origin[2]:g}); the courseworks take maps along x')
-        walls = (occupancy_map.cells == OCCUPIED) | (occupancy_map.cells == UNKNOWN)
+        walls = occupancy_map.cells == OCCUPIED
+        if unknown_is_wall:
+            walls |= occupancy_map.cells == UNKNOWN
         return cls(walls, occupancy_map.resolution, tuple(occupancy_map.origin[:2]))
 
     @property

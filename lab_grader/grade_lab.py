@@ -31,13 +31,14 @@ from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
 from lab_grader.supervision import become_subreaper
+from lab_grader.task_checks import GRADED_TASKS
 from lab_grader.verdicts import ProcessOutcome
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK
 from simple_robot_control.share import shared_file
 from simple_robot_control.validation import Bounds, compact, is_ros_name
 from waypoint_lab.course import Course
-from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, TIME_LIMIT, WAYPOINTS_TASK
+from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
 MEMORY = Bounds(0, 1 << 20)
@@ -251,11 +252,11 @@ def main(argv=None):
                       angle_tolerance=math.radians(options.angle_tolerance))
     try:
         courses = find_courses(options.courses, defaults)
-        ungraded = [course for course in courses if course.task != WAYPOINTS_TASK]
+        ungraded = [course for course in courses if course.task not in GRADED_TASKS]
         if ungraded:
-            raise CourseError(f"{ungraded[0].settings_file}: grade_lab grades the lab's "
-                              f'{WAYPOINTS_TASK} task; the {ungraded[0].task} task is judged '
-                              'by courseworks/ but not run by grade_lab yet')
+            raise CourseError(f'{ungraded[0].settings_file}: grade_lab grades the '
+                              f'{" and ".join(GRADED_TASKS)} tasks; the {ungraded[0].task} '
+                              'task is judged by courseworks/ but not run by grade_lab yet')
         guard = CourseGuard([path for path in options.courses if Path(path).is_dir()],
                             course_files(courses))
         submissions = submissions_of(options)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from lab_grader.simulator_link import SpeedLimits
+from lab_grader.task_checks import task_checks
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
 from waypoint_lab.course import Course
 from waypoint_lab.run import assemble_run, Run
@@ -101,6 +102,6 @@ def grade_course(course: Course, evidence: RunEvidence,
                          'again')
         return verdict
     judge = Judge(course, run, evidence.outcome, evidence.fouls, evidence.limits)
-    verdict.checks = judge.checks()
+    verdict.checks = judge.checks(task_checks(course, run))
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict

@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 from waypoint_lab.course import goal_errors, in_goal_set
-from waypoint_lab.status import FINISHED, STARTED, WAYPOINT
+from waypoint_lab.rules import WAYPOINTS_TASK
+from waypoint_lab.status import FINISHED, STARTED, UNREACHABLE, WAYPOINT
 
 LATENCY = 0.5
 SLACK = 0.05
@@ -86,15 +87,17 @@ class Judge:
         self.finished = next((report for report in self.lab
                               if report.status.kind == FINISHED), None)
 
-    def checks(self) -> list[Check]:
+    def checks(self, task_checks: list[Check] = ()) -> list[Check]:
+        """Return the sheet: the lab's checks, then a coursework's own, then the end."""
         checks = [self._started()]
-        checks += [self._waypoint(number) for number in range(1, len(self.course.waypoints) + 1)]
+        checks += [self._goal(number) for number in range(1, len(self.course.waypoints) + 1)]
         checks += [self._finished(), self._contact()]
         if self.course.max_time is not None:
             checks.append(self._limit('time', self.time_taken, self.course.max_time, 's'))
         if self.course.max_path_length is not None:
             checks.append(self._limit('path length', self.path_length,
                                       self.course.max_path_length, 'm'))
+        checks += task_checks
         fair_play = self._fair_play()
         return checks + [fair_play] * (not fair_play.passed) + [self._ending()]
 
@@ -151,21 +154,46 @@ class Judge:
         return Check(STARTED, True, f'first, at t = {first.time:.2f} s, with the true start '
                      f'pose {true_pose}')
 
-    def _waypoint(self, number):
-        name = f'{WAYPOINT} {number}'
-        sent = [(position, report) for position, report in enumerate(self.lab)
-                if report.status.kind == WAYPOINT and report.status.number == number]
+    def _report_name(self, number):
+        """Name the report goal number takes: WAYPOINT n, or either kind where it may plan."""
+        if self.course.task == WAYPOINTS_TASK:
+            return f'{WAYPOINT} {number}'
+        return f'{WAYPOINT} or {UNREACHABLE} {number}'
+
+    def _goal_reports(self, number):
+        """Return (position among the statuses, report) of each report that names goal number."""
+        return [(position, report) for position, report in enumerate(self.lab)
+                if report.status.kind in (WAYPOINT, UNREACHABLE)
+                and report.status.number == number]
+
+    def _goal(self, number):
+        """
+        Check goal number's report: WAYPOINT n once, in order, in the goal set, honest.
+
+        A course of a coursework that plans (not the lab's) may have the goal reported
+        UNREACHABLE n instead, in the same place; whether it truly is, its task's check judges.
+        """
+        sent = self._goal_reports(number)
+        kind = sent[0][1].status.kind if len(sent) == 1 else WAYPOINT
+        name = f'{kind} {number}'
         if not sent:
-            return Check(name, False, 'never sent')
+            return Check(name, False, 'never sent (neither WAYPOINT nor UNREACHABLE)'
+                         if self.course.task != WAYPOINTS_TASK else 'never sent')
         if len(sent) > 1:
             return Check(name, False, f'sent {len(sent)} times')
         position, report = sent[0]
         before = self.lab[position - 1].status if position else None
-        expected = (STARTED, None) if number == 1 else (WAYPOINT, number - 1)
-        if before is None or (before.kind, before.number) != expected:
+        if number == 1:
+            in_order = before is not None and before.kind == STARTED
+        else:
+            in_order = before is not None and (before.kind, before.number) in (
+                (WAYPOINT, number - 1), (UNREACHABLE, number - 1))
+        if not in_order:
             said = 'first' if before is None else f'after {before.kind} {before.number or ""}'
-            return Check(name, False, f'out of order: sent {said.strip()}, not after '
-                         f'{" ".join(str(part) for part in expected if part)}')
+            expected = STARTED if number == 1 else self._report_name(number - 1)
+            return Check(name, False, f'out of order: sent {said.strip()}, not after {expected}')
+        if kind == UNREACHABLE:
+            return self._given_up(name, report)
         waypoint = self.course.waypoints[number - 1]
         window = self._window(report)
         if not len(window):
@@ -198,11 +226,12 @@ class Judge:
         if self.finished is None:
             return Check(FINISHED, False, f'never sent{self._why_missing()}')
         position = self.lab.index(self.finished)
-        last = f'{WAYPOINT} {len(self.course.waypoints)}'
+        count = len(self.course.waypoints)
+        last = self._report_name(count)
         before = self.lab[position - 1].status if position else None
-        if before is None or (before.kind, before.number) != (WAYPOINT,
-                                                              len(self.course.waypoints)):
+        if before is None or before.kind not in (WAYPOINT, UNREACHABLE) or before.number != count:
             return Check(FINISHED, False, f'sent before {last}')
+        last = f'{before.kind} {count}'
         after = self.run.reports[self.run.reports.index(self.finished) + 1:]
         if after:
             return Check(FINISHED, False, f'{len(after)} message(s) after it, the first '
@@ -220,6 +249,22 @@ class Judge:
                          'cmd_vel: the simulator holds the last command, as STDR does)')
         return Check(FINISHED, True, f'after {last}, and nothing after it; the robot then '
                      f'stood still for {held}')
+
+    def _given_up(self, name, report):
+        """Check an UNREACHABLE report: never on the lab's courses; elsewhere, honest."""
+        if self.course.task == WAYPOINTS_TASK:
+            return Check(name, False, f'sent at t = {report.time:.2f} s: every goal of the '
+                         "lab is to be reached (UNREACHABLE is the planning coursework's)")
+        window = self._window(report)
+        if not len(window):
+            return Check(name, False, 'no true pose recorded around it')
+        index, error, turn = _match(self.run, window, report.status.pose)
+        if not _honest(error, turn):
+            return Check(name, False, f'reported {_pose_text(report.status.pose)}, but the '
+                         f'robot was at {_pose_text(self.run.poses[index])}')
+        return Check(name, True, f'given up at t = {report.time:.2f} s at the true pose '
+                     f'{_pose_text(self.run.poses[index])} (whether no path reaches it: see '
+                     f'the {self.course.task} check)')
 
     def _contact(self):
         name = 'no wall contact'

@@ -35,6 +35,7 @@ MODULES = {
     'foxglove_live': 'simple_robot_control.foxglove_live',
     'grade_lab': 'lab_grader.grade_lab',
     'policy_controller': 'waypoint_lab.learning.policy_controller',
+    'planner_controller': 'coursework_answers.planner_controller',
 }
 PARAMETER_TABLES = {
     'stdr_lite': 'stdr_lite.node.parameters:PARAMETERS',
@@ -45,6 +46,7 @@ PARAMETER_TABLES = {
     'record_run': 'waypoint_lab.parameters:RECORD_RUN_PARAMETERS',
     'foxglove_live': 'simple_robot_control.foxglove_live_parameters:PARAMETERS',
     'policy_controller': 'waypoint_lab.parameters:POLICY_CONTROLLER_PARAMETERS',
+    'planner_controller': 'coursework_answers.parameters:PLANNER_CONTROLLER_PARAMETERS',
 }
 
 

@@ -11,8 +11,8 @@ import array
 from dataclasses import dataclass
 import difflib
 
-from simple_robot_control.validation import Bounds, compact, describe, is_finite_number
-from simple_robot_control.validation import ros_name_problem
+from simple_robot_control.validation import (Bounds, compact, describe, is_finite_number,
+                                             ros_name_problem, topic_name_problem)
 
 # What rclpy itself declares or reads on every node, besides the node's own parameters.
 RCLPY_PARAMETERS = ('use_sim_time', 'start_type_description_service')
@@ -31,7 +31,8 @@ class ParameterSpec:
     One node parameter: its default, a description with units, and what values it accepts.
 
     bounds limits a number, choices a string, ros_name makes a string a ROS name (a robot or
-    frame name that goes into topics); constraints adds words for what none of those can say.
+    frame name that goes into topics), topic a topic name; constraints adds words for what
+    none of those can say.
     A parameter is read-only unless tunable, in which case `ros2 param set` may change it while
     the node runs, under the same checks as at start.
     """
@@ -42,6 +43,7 @@ class ParameterSpec:
     bounds: Bounds | None = None
     choices: tuple = ()
     ros_name: bool = False
+    topic: bool = False
     constraints: str = ''
     tunable: bool = False
 
@@ -51,6 +53,8 @@ class ParameterSpec:
             words.append(' | '.join(self.choices))
         if self.ros_name:
             words.append('a ROS name')
+        if self.topic:
+            words.append('a topic name')
         if self.constraints:
             words.append(self.constraints)
         return '; '.join(words)
@@ -63,6 +67,8 @@ class ParameterSpec:
             return f'{self.name} must be one of {", ".join(self.choices)}, got {value!r}'
         if self.ros_name:
             return ros_name_problem(value, self.name)
+        if self.topic:
+            return topic_name_problem(value, self.name)
         if isinstance(self.default, list) and not all(is_finite_number(item) for item in value):
             return f'{self.name} must hold finite numbers, got {[compact(v) for v in value]}'
         return None

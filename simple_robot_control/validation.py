@@ -146,3 +146,13 @@ def is_ros_name(name: object) -> bool:
 def ros_name_problem(name: object, what: str) -> str | None:
     """Return 'WHAT must be a ROS name ..., got NAME', or None if name is one."""
     return None if is_ros_name(name) else f'{what} must be {ROS_NAME_RULE}, got {describe(name)}'
+
+
+def topic_name_problem(name: object, what: str) -> str | None:
+    """Return a line saying why name is no topic name (ROS names joined by '/'), or None."""
+    tokens = name[1:].split('/') if isinstance(name, str) and name.startswith('/') else (
+        name.split('/') if isinstance(name, str) else [None])
+    if all(is_ros_name(token) for token in tokens):
+        return None
+    return (f"{what} must be a topic name (ROS names joined by '/', as /map or "
+            f'robot0/map), got {describe(name)}')

@@ -13,9 +13,14 @@ depend on the poses alone and a simulator in lockstep can count the answers.
 
 A control law is anything with aim(pose, index), told that waypoint index of the course is the
 goal from pose on, and command(pose, dt) -> (linear m/s, angular rad/s) for the next dt
-seconds: the lab's PID answer (waypoint_controller), a learned policy (policy_controller), or a
-student's own (FunctionLaw wraps a plain function). The runner node (runner.py) feeds this
-from ROS; tests and tools feed it poses directly.
+seconds. A law that plans may also have reachable: False once it finds that no path reaches
+the goal aimed at; the run then reports UNREACHABLE n and goes on to the next goal (the
+planning coursework's rule: a goal given up is said so, not pushed to a stall), and
+remaining(pose): the distance still to go along its plan, which the stall watch then measures
+progress by (a route round a wall leads away from the goal for a while). Laws: the
+lab's PID answer (waypoint_controller), a learned policy (policy_controller), a student's own
+(FunctionLaw wraps a plain function), the courseworks' planner (coursework_answers). The
+runner node (runner.py) feeds this from ROS; tests and tools feed it poses directly.
 """
 
 from collections.abc import Callable, Sequence
@@ -28,7 +33,7 @@ from simple_robot_control.validation import shorten
 from waypoint_lab.course import goal_error, in_goal_set
 from waypoint_lab.rules import (ANGLE_TOLERANCE, DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED,
                                 MAX_LINEAR_SPEED)
-from waypoint_lab.status import aborted, finished, started, waypoint_reached
+from waypoint_lab.status import aborted, finished, started, unreachable, waypoint_reached
 from waypoint_lab.waypoints import Waypoint
 
 Pose = tuple[float, float, float]
@@ -213,14 +218,17 @@ class RunLifecycle:
         statuses = [started(pose)] if first else []
         reached = self._advance(pose)
         statuses += [waypoint_reached(index + 1, pose) for index in reached]
+        if (first or reached) and self.next_index < len(self.waypoints):
+            self._aim(pose, now)
+        statuses += self._give_up_unreachable(pose, now)
         if self.next_index == len(self.waypoints):
             self.exit_code = 0
             return Outcome((*statuses, finished()), reached, STOP, 0)
-        if first or reached:
-            self._stall.restart(now)
-            self.law.aim(pose, self.next_index)
         goal = self.waypoints[self.next_index]
         distance, heading = goal_error(*pose, goal.x, goal.y, goal.theta)
+        remaining = getattr(self.law, 'remaining', None)
+        if remaining is not None:
+            distance = remaining(pose)
         if self._stall.stalled(now, distance, heading):
             ending = self.abort(pose, (
                 f'waypoint {self.next_index + 1} ({goal.x:g}, {goal.y:g}, '
@@ -237,6 +245,20 @@ class RunLifecycle:
         self.exit_code = 1
         statuses = (aborted(self.next_index + 1, pose),) if pose is not None else ()
         return Outcome(statuses, (), STOP, 1, problem)
+
+    def _aim(self, pose, now):
+        self._stall.restart(now)
+        self.law.aim(pose, self.next_index)
+
+    def _give_up_unreachable(self, pose, now):
+        """Go past every goal the law says no path reaches; return their UNREACHABLE statuses."""
+        statuses = []
+        while self.next_index < len(self.waypoints) and not getattr(self.law, 'reachable', True):
+            self.next_index += 1
+            statuses.append(unreachable(self.next_index, pose))
+            if self.next_index < len(self.waypoints):
+                self._aim(pose, now)
+        return statuses
 
     def _advance(self, pose):
         """Go past every waypoint whose goal set holds pose; return their indices."""

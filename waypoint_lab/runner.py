@@ -117,10 +117,12 @@ class CourseRunner(GuardedNode):
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
                                                     self._on_odometry, 10).topic_name
         self._uses_map = self.plans_around_walls()
+        # A planner may take a mapper's growing map in place of the simulator's.
+        self._map_topic = params.get('map_topic', '/map')
         if self._uses_map:
             latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                                  durability=DurabilityPolicy.TRANSIENT_LOCAL)
-            self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
+            self.create_subscription(OccupancyGrid, self._map_topic, self._on_map, latched)
         self.create_timer(WATCH_PERIOD, self._watch_odometry, clock=steady)
         self.get_logger().info(f'following {len(waypoints)} waypoints from {path}')
 
@@ -174,14 +176,14 @@ class CourseRunner(GuardedNode):
         if self._discovery is not None:
             return False
         if (not self._uses_map or self._has_map or self._map_given_up
-                or self.count_publishers('/map') == 0):
+                or self.count_publishers(self._map_topic) == 0):
             return True
         waited = time.monotonic() - self._started_at
         if waited < MAP_WAIT:
             return False
         self._map_given_up = True
-        self.get_logger().warn(f'/map has a publisher but no map came in {waited:.0f} s: '
-                               'driving without regard to walls until it does')
+        self.get_logger().warn(f'{self._map_topic} has a publisher but no map came in '
+                               f'{waited:.0f} s: driving without regard to walls until it does')
         return True
 
     def _check_alone(self):
@@ -205,7 +207,7 @@ class CourseRunner(GuardedNode):
     def _on_map(self, message):
         """Keep the law's plans off the walls of the map from now on, if it is a map."""
         try:
-            grid = OccupancyMap.from_grid_message(message)
+            grid = OccupancyMap.from_grid_message(message, self._map_topic)
         except MapError as error:
             self.get_logger().warn(f'ignoring {error}; planning without regard to walls',
                                    throttle_duration_sec=10.0)
@@ -213,8 +215,10 @@ class CourseRunner(GuardedNode):
             self._release_held()
             return
         self.use_map(grid)
-        self.get_logger().info(f'planning around the walls of /map ({grid.width} x '
-                               f'{grid.height} cells of {grid.resolution:g} m)')
+        if not self._has_map:
+            self.get_logger().info(f'planning around the walls of {self._map_topic} '
+                                   f'({grid.width} x {grid.height} cells of '
+                                   f'{grid.resolution:g} m)')
         self._has_map = True
         self._release_held()
 

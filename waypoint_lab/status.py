@@ -2,8 +2,10 @@
 The text of robot_status messages, as the lab specifies them: written and read here alone.
 
 STARTED <x> <y> <theta>, WAYPOINT <n> <x> <y> <theta>, FINISHED, ABORTED <n> <x> <y> <theta>;
-metres, and theta in degrees (the lab's unit). Poses given to and taken from this module are
-(x, y, theta in radians).
+metres, and theta in degrees (the lab's unit). The planning coursework adds UNREACHABLE <n> <x>
+<y> <theta>: goal n given up as one no path reaches (the pose where it was said), the run going
+on to the next; the lab's own courses have no such goal. Poses given to and taken from this
+module are (x, y, theta in radians).
 """
 
 from dataclasses import dataclass
@@ -13,6 +15,9 @@ import re
 from simple_robot_control.validation import parse_decimal
 
 STARTED, WAYPOINT, FINISHED, ABORTED = 'STARTED', 'WAYPOINT', 'FINISHED', 'ABORTED'
+UNREACHABLE = 'UNREACHABLE'
+# The statuses that name a goal, and what each says of it.
+NUMBERED = (WAYPOINT, ABORTED, UNREACHABLE)
 ENDINGS = (FINISHED, ABORTED)
 # The longest status is well under this: WAYPOINT, a number and a pose of three decimals.
 MAX_STATUS_LENGTH = 200
@@ -40,6 +45,10 @@ def aborted(number: int, pose: tuple) -> str:
     return f'{ABORTED} {number} {_pose_text(pose)}'
 
 
+def unreachable(number: int, pose: tuple) -> str:
+    return f'{UNREACHABLE} {number} {_pose_text(pose)}'
+
+
 @dataclass(frozen=True)
 class Status:
     """A robot_status message read back: its kind, waypoint number and pose where it has them."""
@@ -63,13 +72,13 @@ def parse_status(text: str) -> Status | None:
     if len(text) > MAX_STATUS_LENGTH:
         return None
     words = text.split()
-    if not words or words[0] not in (STARTED, WAYPOINT, FINISHED, ABORTED):
+    if not words or words[0] not in (STARTED, FINISHED, *NUMBERED):
         return None
     kind, rest = words[0], words[1:]
     if kind == FINISHED:
         return Status(kind) if not rest else None
     number = None
-    if kind in (WAYPOINT, ABORTED):
+    if kind in NUMBERED:
         if not rest or not _WAYPOINT_NUMBER.match(rest[0]):
             return None
         number, rest = int(rest[0]), rest[1:]

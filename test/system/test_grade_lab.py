@@ -46,9 +46,14 @@ def batch(tmp_path_factory):
 
 
 def verdicts(report, group, course):
-    """Return {check name: (passed, evidence)} of a group's course, from its JUnit suite."""
+    """
+    Return {check name: (passed, evidence)} of a group's course, from its JUnit suite.
+
+    group None: the one submission graded (its suites are named by course alone).
+    """
     suites = ElementTree.parse(report / 'junit.xml').getroot()
-    suite = next(suite for suite in suites if suite.get('name') == f'{group}.{course}')
+    name = course if group is None else f'{group}.{course}'
+    suite = next(suite for suite in suites if suite.get('name') == name)
     checks = {}
     for case in suite.iter('testcase'):
         problem = case.find('failure')

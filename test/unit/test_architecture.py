@@ -41,7 +41,8 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
-    'courseworks/*.py', 'coursework_answers/*.py']
+    'courseworks/*.py'] + [f'coursework_answers/{name}.py' for name in (
+        'mapper', 'frontiers', 'planner', 'route_law', 'parameters')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -83,7 +84,8 @@ ALLOWED = {
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
     'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},
     'courseworks': {'simple_robot_control', 'waypoint_lab'},
-    'coursework_answers': {'simple_robot_control', 'waypoint_lab', 'courseworks'},
+    'coursework_answers': {'simple_robot_control', 'waypoint_lab', 'waypoint_controller',
+                           'courseworks'},
 }
 
 

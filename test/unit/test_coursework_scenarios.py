@@ -101,12 +101,12 @@ def test_a_bad_scenario_is_refused_in_one_line(tmp_path, settings, complaint):
 
 
 def test_grade_lab_refuses_a_task_it_does_not_run_yet(tmp_path, capsys):
-    write(tmp_path, 'task: planning\n')
+    write(tmp_path, 'task: exploration\n')
     assert grade_lab(['--courses', str(tmp_path), '--', 'true', '{waypoints}']) == EXIT_BAD_INPUT
     lines = capsys.readouterr().err.splitlines()
-    assert lines == [f"grade_lab: error: {tmp_path / 'goals.yaml'}: grade_lab grades the lab's "
-                     'waypoints task; the planning task is judged by courseworks/ but not run '
-                     'by grade_lab yet']
+    assert lines == [f"grade_lab: error: {tmp_path / 'goals.yaml'}: grade_lab grades the "
+                     'waypoints and planning tasks; the exploration task is judged by '
+                     'courseworks/ but not run by grade_lab yet']
 
 
 def test_the_courseworks_page_example_prints_what_the_page_shows(tmp_path, monkeypatch, capsys):

@@ -142,3 +142,38 @@ def test_tuned_rules_take_effect_together_at_the_next_tick():
 def test_a_course_without_waypoints_is_refused():
     with pytest.raises(ValueError, match='at least one waypoint'):
         RunLifecycle([], Recorder())
+
+
+class Planner(Recorder):
+    """A law that finds the goals of given indices unreachable when aimed at them."""
+
+    def __init__(self, unreachable):
+        super().__init__()
+        self.unreachable, self.reachable = set(unreachable), True
+
+    def aim(self, pose, index):
+        super().aim(pose, index)
+        self.reachable = index not in self.unreachable
+
+
+def test_a_goal_the_law_finds_unreachable_is_reported_and_the_run_goes_on():
+    course = [Waypoint(0.0, 0.0, 0.0), Waypoint(5.0, 0.0, 0.0), Waypoint(9.0, 0.0, 0.0),
+              Waypoint(1.0, 0.0, 0.0)]
+    law = Planner({1, 2})
+    run = RunLifecycle(course, law)
+    outcome = run.observe(0, (0.0, 0.0, 0.0))
+    assert kinds(outcome) == ['STARTED', 'WAYPOINT', 'UNREACHABLE', 'UNREACHABLE']
+    assert [parse_status(text).number for text in outcome.statuses[1:]] == [1, 2, 3]
+    assert [index for _, index in law.aims] == [1, 2, 3] and outcome.exit_code is None
+    ending = run.observe(2000 * MS, (0.97, 0.0, 0.0))
+    assert kinds(ending) == ['WAYPOINT', 'FINISHED'] and ending.exit_code == 0
+
+
+def test_a_law_that_finds_its_goal_unreachable_later_gives_it_up_then():
+    law = Planner(set())
+    run = RunLifecycle(COURSE, law)
+    run.observe(0, (0.0, 0.0, 0.0))
+    law.reachable = False
+    outcome = run.observe(20 * MS, (0.0, 0.0, 0.0))
+    assert kinds(outcome) == ['UNREACHABLE'] and parse_status(outcome.statuses[0]).number == 1
+    assert [index for _, index in law.aims] == [0, 1] and outcome.exit_code is None

@@ -4,7 +4,8 @@ import math
 
 import pytest
 from simple_robot_control.validation import (Bounds, compact, is_finite_number, NON_NEGATIVE,
-                                             parse_decimal, POSITIVE, ros_name_problem)
+                                             parse_decimal, POSITIVE, ros_name_problem,
+                                             topic_name_problem)
 
 
 @pytest.mark.parametrize('value, finite', [(1, True), (2.5, True), (-0.0, True),
@@ -55,3 +56,14 @@ def test_plain_decimals_are_read(text, value):
                                   ' 1', '1,5', '--1'])
 def test_what_python_would_also_take_is_refused(text):
     assert parse_decimal(text) is None
+
+
+@pytest.mark.parametrize('name', ['/map', 'map', 'robot0/map', '/robot0/coursework_map'])
+def test_topic_names_are_ros_names_joined_by_slashes(name):
+    assert topic_name_problem(name, 'map_topic') is None
+
+
+@pytest.mark.parametrize('name', ['', '/', 'map/', '//map', '/0map', 'a b', '/map__x', 3])
+def test_other_topic_names_are_refused_in_one_line_naming_the_parameter(name):
+    problem = topic_name_problem(name, 'map_topic')
+    assert problem.startswith('map_topic must be a topic name') and '\n' not in problem

@@ -1,0 +1,60 @@
+"""
+The planner_controller node: the planning coursework's reference answer, on the lab's runner.
+
+Each goal's route is planned on the map (route_law.py), driven leg by leg, and reported on
+robot_status as the lab reports waypoints; a goal no route reaches is reported UNREACHABLE n and
+the run goes on. The map is the simulator's /map or, with map_topic, a mapper's growing map:
+each new map means planning again from where the robot is.
+"""
+
+import math
+import sys
+
+from coursework_answers.parameters import PLANNER_CONTROLLER_PARAMETERS
+from simple_robot_control.node_runtime import build_parser, run
+from waypoint_lab.runner import CourseRunner, run_rules
+
+DESCRIPTION = ('planner_controller: drive the robot to the goals of WAYPOINT_FILE (x y theta '
+               'triples in m, m, degrees) by routes planned on the map, reporting STARTED, '
+               'WAYPOINT n, UNREACHABLE n for a goal no route reaches, and FINISHED or ABORTED '
+               'on robot_status. Exit code 0 when finished, 1 when aborted, 2 for bad input.')
+
+
+class PlannerController(CourseRunner):
+    """The reference planner-controller: RouteLaw, planning on the map of map_topic."""
+
+    def __init__(self, waypoint_file=None, **kwargs):
+        super().__init__('planner_controller', PLANNER_CONTROLLER_PARAMETERS, waypoint_file,
+                         **kwargs)
+
+    def build_law(self, params, waypoints):
+        # Imported with the node: scipy and the compiled rays load while discovery runs.
+        from coursework_answers.route_law import RouteLaw
+        from courseworks.grids import Grid
+        from waypoint_controller.config import ControllerConfig
+        self._grid = Grid
+        config = ControllerConfig(
+            max_linear_speed=params['max_linear_speed'],
+            max_angular_speed=params['max_angular_speed'],
+            distance_tolerance=params['distance_tolerance'],
+            angle_tolerance=math.radians(params['angle_tolerance_deg']))
+        self._law = RouteLaw(waypoints, params['robot_radius'], params['wall_margin'], config)
+        return self._law, run_rules(params)
+
+    def plans_around_walls(self):
+        return True
+
+    def use_map(self, grid):
+        self._law.use_map(self._grid.from_map(grid, unknown_is_wall=False))
+
+
+def main(argv=None):
+    parser = build_parser('planner_controller', DESCRIPTION, PLANNER_CONTROLLER_PARAMETERS)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='waypoint file; the waypoint_file parameter is the alternative')
+    sys.exit(run('planner_controller', parser,
+                 lambda options: PlannerController(options.waypoint_file), argv))
+
+
+if __name__ == '__main__':
+    main()

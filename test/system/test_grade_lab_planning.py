@@ -1,0 +1,74 @@
+"""grade_lab on the planning coursework: the reference answer passes, rule breakers fail."""
+
+from pathlib import Path
+import sys
+
+from grade_runs import grade
+import pytest
+from simple_robot_control.share import installed_executable, shared_file
+from test_grade_lab import verdicts
+
+PLANNERS = Path(__file__).resolve().parents[1] / 'controllers' / 'planners.py'
+SCENARIOS = ('factory_planning', 'plus_room_planning', 'simple_walls_planning')
+
+
+@pytest.fixture(scope='module')
+def graded(tmp_path_factory):
+    """
+    Grade the reference on every bundled planning scenario, the rule breakers on the smallest.
+
+    Two gradings, three runs at a time: the breakers' tell on any scenario, so one does.
+    """
+    root = tmp_path_factory.mktemp('planning')
+    groups = root / 'groups'
+    for group in ('reference', 'pushes_on', 'gives_up'):
+        (groups / group).mkdir(parents=True)
+        (groups / group / 'behaviour').write_text(group)
+        command = (f'exec {installed_executable("planner_controller")} "$2"\n'
+                   if group == 'reference' else f'exec {sys.executable} {PLANNERS} "$@"\n')
+        script = groups / group / 'run.sh'
+        script.write_text(f'#!/bin/sh\n{command}')
+        script.chmod(0o755)
+    # The reference and a breaker on every scenario (giving up takes no time); the breaker
+    # that pushes on at the unreachable goal on the smallest.
+    breakers = root / 'breakers'
+    breakers.mkdir()
+    (groups / 'pushes_on').rename(breakers / 'pushes_on')
+    results, report = [], root / 'report'
+    for submissions, scenarios in ((groups, SCENARIOS), (breakers, SCENARIOS[1:2])):
+        results.append(grade(
+            '--courses', *(shared_file('scenarios', f'{name}.txt') for name in scenarios),
+            '--submissions', submissions, '--jobs', 3, '--lockstep', '--real-time-factor', 0,
+            '--report', report / submissions.name, '--', './run.sh', '@', '{waypoints}',
+            cwd=root, timeout=900))
+    return results, report
+
+
+def failed(report, group, course):
+    return {name: evidence for name, (passed, evidence) in verdicts(report, group, course).items()
+            if not passed}
+
+
+@pytest.mark.parametrize('course', SCENARIOS)
+def test_the_reference_planner_passes_every_bundled_scenario(graded, course):
+    results, report = graded
+    checks = verdicts(report / 'groups', 'reference', course)
+    assert all(passed for passed, _ in checks.values()), failed(report / 'groups',
+                                                                'reference', course)
+    assert f'reference / {course}: PASS' in results[0].stdout
+    assert checks['UNREACHABLE 3'][0] and 'planning' in checks
+
+
+def test_a_planner_that_pushes_on_at_an_unreachable_goal_fails_saying_so(graded):
+    _, report = graded
+    failures = failed(report / 'breakers', None, 'plus_room_planning')
+    assert 'goal 3 is unreachable and was not reported so' in failures['planning']
+    assert failures['WAYPOINT 3'].startswith('never sent')
+    assert 'WAYPOINT 2' not in failures
+
+
+def test_a_planner_that_gives_reachable_goals_up_fails_saying_so(graded):
+    results, report = graded
+    failures = failed(report / 'groups', 'gives_up', 'plus_room_planning')
+    assert 'goal 1 was reported unreachable; the judge reaches it by' in failures['planning']
+    assert results[0].returncode == 1
