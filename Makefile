@@ -17,7 +17,7 @@ export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discover
 CACHE_DIR := $(or $(SIMPLE_ROBOT_CONTROL_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/simple_robot_control)
 TRAIN_VENV := $(CACHE_DIR)/train-venv-jax
 
-.PHONY: demo lab-session swarm grade test test-quick test-unit test-node test-system check-stdr \
+.PHONY: demo lab-session swarm scenario grade test test-quick test-unit test-node test-system check-stdr \
 	bench train demo-policy install clean clean-cache
 
 demo: install
@@ -28,6 +28,10 @@ lab-session: install
 
 swarm: install
 	PATH="$(abspath $(VENV))/bin:$$PATH" scripts/swarm.sh
+
+# A coursework scenario in one command: make scenario SCENARIO=factory_planning (scenarios/).
+scenario: install
+	PATH="$(abspath $(VENV))/bin:$$PATH" SCENARIO="$(SCENARIO)" scripts/scenario.sh
 
 # The tick-off sheet: grade_lab grades waypoint_controller on the bundled courses (grade_report/).
 grade: install

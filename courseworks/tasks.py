@@ -19,6 +19,8 @@ MAPPING, EXPLORATION, PLANNING = 'mapping', 'exploration', 'planning'
 THRESHOLDS = {WAYPOINTS_TASK: None, MAPPING: MapThresholds, EXPLORATION: ExplorationThresholds,
               PLANNING: PlanningThresholds}
 TASKS = tuple(THRESHOLDS)
+# The executable that answers each task, where one is bundled: what a scenario is run with.
+REFERENCE_ANSWERS = {WAYPOINTS_TASK: 'waypoint_controller', PLANNING: 'planner_controller'}
 _FRACTION = Bounds(0.0, 1.0)
 _BOUNDS = {'max_path_ratio': Bounds(1.0, 100.0)}
 

@@ -23,6 +23,7 @@ import threading
 import time
 import uuid
 
+from lab_grader.courses import world_parameters
 from lab_grader.grading import RunEvidence
 from lab_grader.publishers import find_intruders
 from lab_grader.recorder import GradingRecorder
@@ -126,16 +127,10 @@ def simulator_command(course, settings, link_descriptor, folder) -> list[str]:
     The parameters go in a file of the grader's private folder, so that the command line
     (which any process may read) names no course file.
     """
-    x, y, theta = course.start
     parameters = {'lockstep': bool(settings.lockstep),
                   'real_time_factor': float(settings.real_time_factor),
-                  'initial_pose': [float(x), float(y), float(theta)],
                   'robot_name': settings.robot_name,
-                  'supervisor_fd': link_descriptor}
-    if course.map_file:
-        parameters['map_yaml'] = str(course.map_file)
-    if course.robot_file:
-        parameters['robot_description'] = str(course.robot_file)
+                  'supervisor_fd': link_descriptor, **world_parameters(course)}
     path = Path(folder) / 'simulator.yaml'
     path.write_text(yaml.safe_dump({'stdr_lite': {'ros__parameters': parameters}}))
     return [installed_executable('stdr_lite'), '--ros-args', '--params-file', str(path)]

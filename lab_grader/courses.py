@@ -174,6 +174,16 @@ _FIELDS = {
 }
 
 
+def world_parameters(course: Course) -> dict:
+    """Return stdr_lite's parameters for course's world: its start, map and robot, if given."""
+    parameters = {'initial_pose': [float(value) for value in course.start]}
+    if course.map_file:
+        parameters['map_yaml'] = str(course.map_file)
+    if course.robot_file:
+        parameters['robot_description'] = str(course.robot_file)
+    return parameters
+
+
 def course_files(courses: list[Course]) -> list[Path]:
     """Return every file the courses are read from: waypoints, YAML, maps and their images."""
     files = []

@@ -14,9 +14,12 @@ speed=${REAL_TIME_FACTOR:-4.0}
 record=${RECORD:-run.mcap}
 picture=${PICTURE:-run.png}
 
-# LOCKSTEP=false for a controller that does not answer every odometry stamp (ours both do).
-stdr_lite --ros-args -p lockstep:="${LOCKSTEP:-true}" -p real_time_factor:="$speed" \
-    --log-level warn &
+# LOCKSTEP=false for a controller that does not answer every odometry stamp (ours all do).
+# SIMULATOR_PARAMETERS: a parameters file of stdr_lite's (a scenario's world: make scenario).
+world=()
+[ -z "${SIMULATOR_PARAMETERS:-}" ] || world=(--params-file "$SIMULATOR_PARAMETERS")
+stdr_lite --ros-args "${world[@]}" -p lockstep:="${LOCKSTEP:-true}" \
+    -p real_time_factor:="$speed" --log-level warn &
 simulator=$!
 rm -f "$record"
 course_monitor "$course" --ros-args -p bag:="$record" --log-level warn &
@@ -52,8 +55,10 @@ trap 'kill -INT $simulator $monitor $viewer 2>/dev/null; wait $simulator $monito
 
 echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast as it goes):"
 # CONTROLLER=policy_controller drives with a learned policy (POLICY: its file; the shipped one).
+# USE_SIM_TIME=true puts the controller's clock on the simulator's /clock.
 policy=()
 [ -z "${POLICY:-}" ] || policy=(-p "policy:=$POLICY")
+[ -z "${USE_SIM_TIME:-}" ] || policy+=(-p "use_sim_time:=$USE_SIM_TIME")
 "${CONTROLLER:-waypoint_controller}" "$course" --ros-args --log-level warn "${policy[@]}" &
 controller=$!
 status=0
@@ -72,6 +77,10 @@ if [ "$status" -le 1 ]; then
     done
     kill -INT $monitor 2>/dev/null || true
     wait $monitor || true
-    plot_run "$record" --output "$picture"
+    # PLOT_MAP and PLOT_ROBOT_RADIUS: a scenario's world and robot (the lab's by default).
+    plot=()
+    [ -z "${PLOT_MAP:-}" ] || plot+=(--map "$PLOT_MAP")
+    [ -z "${PLOT_ROBOT_RADIUS:-}" ] || plot+=(--robot-radius "$PLOT_ROBOT_RADIUS")
+    plot_run "$record" --output "$picture" "${plot[@]}"
 fi
 exit "$status"

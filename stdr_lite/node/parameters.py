@@ -102,6 +102,10 @@ PARAMETERS = (
                   "<robot>/base_link -> <robot>/<sensor>; 'stdr' STDR's, map -> map_static -> "
                   '<robot> -> <robot>_<sensor>, with the odometry in map_static',
                   choices=FRAME_STYLES),
+    ParameterSpec('map_visible', True, "publish the world's map on /map (transient local) and "
+                  'serve it as nav_msgs/GetMap; false: only its geometry, as nav_msgs/'
+                  'MapMetaData on /map_metadata (transient local), for a task whose robot must '
+                  'build the map itself'),
     ParameterSpec('map_frame_id', 'map', 'frame of /map and of the ground truth; the root of '
                   'the TF tree', ros_name=True),
     ParameterSpec('odom_frame_id', 'odom', "frame of a robot's odometry (REP-105), as "

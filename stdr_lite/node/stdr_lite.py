@@ -2,7 +2,7 @@
 
 import sys
 
-from nav_msgs.msg import OccupancyGrid
+from nav_msgs.msg import MapMetaData, OccupancyGrid
 from nav_msgs.srv import GetMap
 import numpy as np
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -90,14 +90,18 @@ class StdrLite(GuardedNode):
         self._topics = {}
         self._clock_publisher = self.create_publisher(ClockMsg, '/clock', 10)
         self._clock_message = ClockMsg()
-        self._map_publisher = self.create_publisher(OccupancyGrid, '/map', LATCHED)
+        # A mapping coursework hides the world's map: its geometry alone goes out.
+        self._map_visible = params['map_visible']
+        self._map_publisher = (self.create_publisher(OccupancyGrid, '/map', LATCHED)
+                               if self._map_visible else
+                               self.create_publisher(MapMetaData, '/map_metadata', LATCHED))
         self.stepper = Stepper(self, self.simulation, self._step, self._publish_state,
                                self.odometry_subscribers, params['real_time_factor'],
                                params['lockstep'])
         self.sync_entities()
         self._map = map_message(self.simulation.occupancy_map, self.frames.map_frame)
-        self._map_publisher.publish(self._map)
-        for name in MAP_SERVICES:
+        self._publish_map()
+        for name in MAP_SERVICES if self._map_visible else ():
             self.requests.serve(GetMap, name, self._answer_map, private=False)
         # In lockstep the controller sets the pace by design: only free-running can lag.
         HealthWatch(self, self.simulation, self._topics,
@@ -177,10 +181,14 @@ class StdrLite(GuardedNode):
         """
         if grid is not None:
             self._map = grid
-            self._map_publisher.publish(grid)
+            self._publish_map()
         yield from self.entity_topics()
         self._publish_clock()
         self.stepper.start_over(new_time)
+
+    def _publish_map(self):
+        """Publish the world's map on /map, or only its geometry where the map is hidden."""
+        self._map_publisher.publish(self._map if self._map_visible else self._map.info)
 
     def _answer_map(self, request, response):
         """Answer GetMap with the current world, as /map has it (after any load_world)."""

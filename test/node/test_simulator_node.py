@@ -4,7 +4,7 @@ import functools
 import math
 
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
-from nav_msgs.msg import OccupancyGrid, Odometry
+from nav_msgs.msg import MapMetaData, OccupancyGrid, Odometry
 import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -191,6 +191,23 @@ def test_late_subscriber_receives_the_map(ros_context, executor):
     assert grid.info.resolution == pytest.approx(0.05)
     assert len(grid.data) == 400 * 300 and grid.data[0] == 100 and grid.data[150 * 400 + 200] == 0
     assert grid.header.frame_id == 'map'
+
+
+def test_a_hidden_map_gives_its_geometry_alone(ros_context, executor):
+    """map_visible false: /map_metadata (latched), no /map, no GetMap service."""
+    start(ros_context, executor, map_visible=False)
+    received = []
+    late = Node('late', context=ros_context)
+    executor.add_node(late)
+    latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    late.create_subscription(MapMetaData, '/map_metadata', received.append, latched)
+    spin_until(executor, lambda: received, what='/map_metadata')
+    assert (received[0].width, received[0].height) == (400, 300)
+    assert received[0].resolution == pytest.approx(0.05)
+    assert late.count_publishers('/map') == 0
+    services = {name for name, _ in late.get_service_names_and_types()}
+    assert not services & {'/static_map', '/map_server/map'}
 
 
 @pytest.mark.parametrize('params, message', [

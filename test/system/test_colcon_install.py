@@ -36,7 +36,7 @@ def test_package_is_registered_in_the_ament_index(install_tree):
     assert (prefix / 'share' / PACKAGE / 'maps/lab_room.yaml').is_file()
     assert (prefix / 'share' / PACKAGE / 'maps/lab_room.pgm').is_file()
     assert {path.name for path in (prefix / 'share' / PACKAGE / 'launch').iterdir()} >= {
-        'stdr_lite.launch.py', 'waypoints.launch.py'}
+        'stdr_lite.launch.py', 'waypoints.launch.py', 'scenario.launch.py'}
     assert (prefix / 'share' / PACKAGE / 'waypoints' / 'lab_tour.txt').is_file()
     assert {path.name for path in (prefix / 'share' / PACKAGE / 'config').iterdir()} == {
         f'{name}.yaml' for name in PARAMETER_TABLES} | {
