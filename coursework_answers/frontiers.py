@@ -7,8 +7,7 @@ are noise at the edge of a ray, not a way into the unknown. The explorer drives 
 cell nearest by path on its own map, walls grown by the robot's radius (courseworks.grids).
 """
 
-from courseworks.grids import Grid, inflate, path_lengths
-from courseworks.mapping import read_cells
+from courseworks.grids import Grid, inflate, path_lengths, read_cells
 import numpy as np
 from scipy import ndimage
 

@@ -4,7 +4,8 @@ The planner_controller node: the planning coursework's reference answer, on the 
 Each goal's route is planned on the map (route_law.py), driven leg by leg, and reported on
 robot_status as the lab reports waypoints; a goal no route reaches is reported UNREACHABLE n and
 the run goes on. The map is the simulator's /map or, with map_topic, a mapper's growing map:
-each new map means planning again from where the robot is.
+a new map showing a wall across the route means planning again from where the robot is; with
+max_map_age each pose waits for a map that fresh, so a run in lockstep is the same anywhere.
 """
 
 import math
@@ -12,7 +13,7 @@ import sys
 
 from coursework_answers.parameters import PLANNER_CONTROLLER_PARAMETERS
 from simple_robot_control.node_runtime import build_parser, run
-from waypoint_lab.runner import CourseRunner, run_rules
+from waypoint_lab.runner import CourseRunner, NOT_YET, READY, run_rules, WAIT
 
 DESCRIPTION = ('planner_controller: drive the robot to the goals of WAYPOINT_FILE (x y theta '
                'triples in m, m, degrees) by routes planned on the map, reporting STARTED, '
@@ -46,6 +47,20 @@ class PlannerController(CourseRunner):
 
     def use_map(self, grid):
         self._law.use_map(self._grid.from_map(grid, unknown_is_wall=False))
+        self.answer_waiting()
+
+    def inputs_ready(self, stamp_ns):
+        """With max_map_age, wait for a map of the mapper's no older than that before the pose."""
+        age_ns = round(self.params['max_map_age'] * 1e9)
+        if not age_ns:
+            return READY
+        if not self.map_stamp_ns:
+            return NOT_YET
+        return READY if self.map_stamp_ns >= stamp_ns - age_ns else WAIT
+
+    def waiting_for(self):
+        return (f'a map on {self.params["map_topic"]} stamped within '
+                f'{self.params["max_map_age"]:g} s of the odometry')
 
 
 def main(argv=None):

@@ -2,19 +2,20 @@
 The reference planner-controller's law: plan a route to each goal, drive it leg by leg. No ROS.
 
 A control law of the lab's run lifecycle (waypoint_lab/lifecycle.py). At each goal it plans a
-route on the latest map (planner.py: walls grown by the robot's radius and a margin, or by the
-radius alone where the margin closes every way); with no route, the goal is unreachable and the
-run reports it so. The route is driven as the lab's assignment drives a waypoint: turn to face
-the next corner, then drive to it with the lab's two PIDs, on heading and on distance; at the
-goal, turn to its heading. Turning on the spot keeps the robot on the route's straight legs,
-which are clear of the grown walls. A new map (a mapper's, growing) means planning again from
-where the robot is, at the next command.
+route on the latest map (planner.py: walls grown by the robot's radius, a margin beyond it kept
+where there is room); with no route, the goal is unreachable and the run reports it so. The
+route is driven as the lab's assignment drives a waypoint: turn to face the next corner, then
+drive to it with the lab's two PIDs, on heading and on distance; at the goal, turn to its
+heading. Turning on the spot keeps the robot on the route's straight legs,
+which are clear of the grown walls. A new map (a mapper's, growing) is checked at the next
+command: where it shows a wall across the route, the route is planned again from where the
+robot is (plans counts the routes planned).
 """
 
 from collections.abc import Sequence
 import math
 
-from coursework_answers.planner import plan_route
+from coursework_answers.planner import plan_route, route_clear
 from courseworks.grids import Grid
 from simple_robot_control.pose import wrap_angle
 from waypoint_controller.config import ControllerConfig
@@ -66,8 +67,7 @@ class RouteLaw:
         if self.grid is None:
             route = [target]
         else:
-            route = (plan_route(self.grid, self.radius + self.margin, pose, target)
-                     or plan_route(self.grid, self.radius, pose, target))
+            route = plan_route(self.grid, self.radius, pose, target, self.margin)
         self.reachable = route is not None
         self.route, self._corner = route or [], 0
         self._heading.reset()
@@ -85,7 +85,10 @@ class RouteLaw:
     def command(self, pose: Pose, dt: float) -> tuple[float, float]:
         """Return (linear, angular): face the next corner, drive to it; at the goal, turn."""
         if self._map_changed and self._index is not None:
-            self._plan(pose)
+            self._map_changed = False
+            if not self.route or not route_clear(self.grid, self.radius,
+                                                 [pose] + self.route[self._corner:]):
+                self._plan(pose)
         if not self.route:
             return 0.0, 0.0
         while (self._corner < len(self.route) - 1 and math.hypot(

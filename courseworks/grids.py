@@ -13,11 +13,16 @@ from dataclasses import dataclass
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
-from simple_robot_control.occupancy_map import OccupancyMap, OCCUPIED, UNKNOWN
+from simple_robot_control.occupancy_map import OccupancyMap
 
+# How a grid's values read, as map_server reads nav_msgs/OccupancyGrid's: occupied from 65, free
+# up to 25, unknown otherwise (-1, or in between).
+OCCUPIED_FROM = 65
+FREE_UP_TO = 25
 # 8-connected moves (row, column), each with its length in cells.
 _MOVES = ((0, 1, 1.0), (1, 0, 1.0), (1, 1, math.sqrt(2.0)), (1, -1, math.sqrt(2.0)))
 _EIGHT_CONNECTED = np.ones((3, 3), dtype=bool)
@@ -45,9 +50,9 @@ class Grid:
         if occupancy_map.origin[2] != 0.0:
             raise GridError(f'{occupancy_map.source}: a rotated map (origin yaw '
                             f'{occupancy_map.origin[2]:g}); the courseworks take maps along x')
-        walls = occupancy_map.cells == OCCUPIED
+        walls, free = read_cells(occupancy_map.cells)
         if unknown_is_wall:
-            walls |= occupancy_map.cells == UNKNOWN
+            walls |= ~free
         return cls(walls, occupancy_map.resolution, tuple(occupancy_map.origin[:2]))
 
     @property
@@ -65,6 +70,12 @@ class Grid:
         """Return the point at the centre of a cell."""
         return (self.origin[0] + (column + 0.5) * self.resolution,
                 self.origin[1] + (row + 0.5) * self.resolution)
+
+
+def read_cells(cells: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Return (walls, free) of a grid's values (-1 unknown, 0 to 100 occupancy)."""
+    cells = np.asarray(cells)
+    return cells >= OCCUPIED_FROM, (cells >= 0) & (cells <= FREE_UP_TO)
 
 
 def inflate(grid: Grid, radius: float) -> np.ndarray:
@@ -98,9 +109,14 @@ def path_lengths(free: np.ndarray, start: tuple[int, int], resolution: float) ->
 
 
 def shortest_path(free: np.ndarray, start: tuple[int, int], goal: tuple[int, int],
-                  resolution: float) -> list[tuple[int, int]]:
-    """Return the cells of a shortest path from start to goal (as path_lengths), [] if none."""
-    lengths, previous = _search(free, start, resolution)
+                  resolution: float, cost: np.ndarray | None = None) -> list[tuple[int, int]]:
+    """
+    Return the cells of a shortest path from start to goal (as path_lengths), [] if none.
+
+    cost, if given, weighs each cell (1 and up): a move costs its length times the mean of its
+    two cells' costs, so the path keeps off costly cells where it can (a planner's margin).
+    """
+    lengths, previous = _search(free, start, resolution, cost)
     if not np.isfinite(lengths[goal]):
         return []
     columns = free.shape[1]
@@ -111,7 +127,7 @@ def shortest_path(free: np.ndarray, start: tuple[int, int], goal: tuple[int, int
     return cells[::-1]
 
 
-def _search(free, start, resolution):
+def _search(free, start, resolution, cost=None):
     """Dijkstra from start over free's 8-connected graph: lengths, and each cell's previous."""
     rows, columns = free.shape
     if not free[start]:
@@ -129,7 +145,10 @@ def _search(free, start, resolution):
             both &= free[row_to, column_from] & free[row_from, column_to]
         sources.append(index[row_from, column_from][both])
         targets.append(index[row_to, column_to][both])
-        weights.append(np.full(int(both.sum()), length * resolution))
+        weight = np.full(int(both.sum()), length * resolution)
+        if cost is not None:
+            weight *= 0.5 * (cost[row_from, column_from][both] + cost[row_to, column_to][both])
+        weights.append(weight)
     source, target = np.concatenate(sources), np.concatenate(targets)
     graph = coo_matrix((np.concatenate(weights), (source, target)),
                        shape=(rows * columns, rows * columns)).tocsr()

@@ -16,15 +16,13 @@ not built from the laser: the task hides /map, and the judge fails a map that kn
 from dataclasses import dataclass
 import math
 
-from courseworks.grids import Grid
+from courseworks.grids import Grid, read_cells
 from courseworks.judgement import Judgement
 from courseworks.rays import cast_scan
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import ndimage
 
-OCCUPIED_FROM = 65
-FREE_UP_TO = 25
 WALL_SLACK_CELLS = 1
 # A mapper's evidence spreads a little past what the rays crossed (noise, odometry drift): cells
 # this far from a seen cell do not count as known beyond sight.
@@ -93,12 +91,6 @@ def seen_along(grid: Grid, poses: ArrayLike, laser: Laser) -> Sight:
                   laser.min_angle, increment, laser.num_rays, laser.max_range / grid.resolution,
                   free_counts, wall_counts)
     return Sight(free_counts > 0, wall_counts > 0)
-
-
-def read_cells(cells: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Return (walls, free) of a submitted grid's values (-1 unknown, 0 to 100 occupancy)."""
-    cells = np.asarray(cells)
-    return cells >= OCCUPIED_FROM, (cells >= 0) & (cells <= FREE_UP_TO)
 
 
 def judge_map(sight: Sight, submitted: ArrayLike,

@@ -10,17 +10,15 @@ from dataclasses import fields, replace
 
 from courseworks.exploration import ExplorationThresholds
 from courseworks.mapping import MapThresholds
+from courseworks.names import EXPLORATION, MAPPING, PLANNING
 from courseworks.planning import PlanningThresholds
 from simple_robot_control.validation import Bounds, describe
 from waypoint_lab.rules import WAYPOINTS_TASK
 
-MAPPING, EXPLORATION, PLANNING = 'mapping', 'exploration', 'planning'
 # Each task's thresholds (None: the lab's task, graded by its own limits).
 THRESHOLDS = {WAYPOINTS_TASK: None, MAPPING: MapThresholds, EXPLORATION: ExplorationThresholds,
               PLANNING: PlanningThresholds}
 TASKS = tuple(THRESHOLDS)
-# The executable that answers each task, where one is bundled: what a scenario is run with.
-REFERENCE_ANSWERS = {WAYPOINTS_TASK: 'waypoint_controller', PLANNING: 'planner_controller'}
 _FRACTION = Bounds(0.0, 1.0)
 _BOUNDS = {'max_path_ratio': Bounds(1.0, 100.0)}
 

@@ -165,6 +165,7 @@ class _Run:
         self.fouls, self.strangers = [], []
         # What the recorder leaves once taken down: the statuses, and why the bag failed if so.
         self.recorder_statuses, self.recorder_failure = [], ''
+        self.recorder_map = None
         self.submission_pids = set()
         self._last_heard = (time.monotonic(), 0)
         self._watched_at = 0.0
@@ -299,7 +300,7 @@ class _Run:
         link = self.link
         return RunEvidence(outcome, self.bag, error, link.truth() if link else [],
                            list(self.recorder_statuses), link.limits if link else None,
-                           tuple(self.fouls))
+                           tuple(self.fouls), self.recorder_map)
 
     def _until_over(self):
         """Spin until the run is over; return whether the time limit ended it."""
@@ -364,6 +365,7 @@ class _Run:
         if self.recorder is not None:
             self.recorder.recording.close()
             self.recorder_statuses = list(self.recorder.statuses)
+            self.recorder_map = self.recorder.submitted_map()
             self.recorder_failure = self.recorder.recording.bag.failure \
                 if self.recorder.recording.failed else ''
             self.executor.remove_node(self.recorder)

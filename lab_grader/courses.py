@@ -15,6 +15,7 @@ import math
 import os
 from pathlib import Path
 
+from courseworks.names import HIDES_MAP
 from courseworks.tasks import check_task, TaskError, thresholds_for
 from simple_robot_control.input_files import read_yaml
 from simple_robot_control.share import bundled_files
@@ -175,8 +176,13 @@ _FIELDS = {
 
 
 def world_parameters(course: Course) -> dict:
-    """Return stdr_lite's parameters for course's world: its start, map and robot, if given."""
-    parameters = {'initial_pose': [float(value) for value in course.start]}
+    """
+    Return stdr_lite's parameters for course's world: its start, map and robot, if given.
+
+    A task whose robot builds its own map has the world's map hidden (its geometry alone).
+    """
+    parameters = {'initial_pose': [float(value) for value in course.start],
+                  'map_visible': course.task not in HIDES_MAP}
     if course.map_file:
         parameters['map_yaml'] = str(course.map_file)
     if course.robot_file:

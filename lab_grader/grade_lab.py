@@ -255,7 +255,7 @@ def main(argv=None):
         ungraded = [course for course in courses if course.task not in GRADED_TASKS]
         if ungraded:
             raise CourseError(f'{ungraded[0].settings_file}: grade_lab grades the '
-                              f'{" and ".join(GRADED_TASKS)} tasks; the {ungraded[0].task} '
+                              f'{", ".join(GRADED_TASKS)} tasks; the {ungraded[0].task} '
                               'task is judged by courseworks/ but not run by grade_lab yet')
         guard = CourseGuard([path for path in options.courses if Path(path).is_dir()],
                             course_files(courses))

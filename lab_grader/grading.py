@@ -12,6 +12,7 @@ from pathlib import Path
 from lab_grader.simulator_link import SpeedLimits
 from lab_grader.task_checks import task_checks
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
+from simple_robot_control.occupancy_map import OccupancyMap
 from waypoint_lab.course import Course
 from waypoint_lab.run import assemble_run, Run
 
@@ -74,7 +75,8 @@ class RunEvidence:
     What a course's run left: how the submission ended, its bag, and the judge's evidence.
 
     truth is the simulator's path as its private socket gave it ((sim s, pose, wall ns sent,
-    stalled) per step), statuses every robot_status message ((wall ns sent, text)); fouls are
+    stalled) per step), statuses every robot_status message ((wall ns sent, text)); submitted_map
+    a mapping submission's last map (or why it was none); fouls are
     lines that each fail the course; error a failure of the grader's (or of another program's),
     not the submission's. The bag is the run's record for people, never the judge's evidence.
     """
@@ -86,6 +88,7 @@ class RunEvidence:
     statuses: list = field(default_factory=list)
     limits: SpeedLimits | None = None
     fouls: tuple[str, ...] = ()
+    submitted_map: OccupancyMap | str | None = None
 
 
 def grade_course(course: Course, evidence: RunEvidence,
@@ -102,6 +105,6 @@ def grade_course(course: Course, evidence: RunEvidence,
                          'again')
         return verdict
     judge = Judge(course, run, evidence.outcome, evidence.fouls, evidence.limits)
-    verdict.checks = judge.checks(task_checks(course, run))
+    verdict.checks = judge.checks(task_checks(course, run, evidence.submitted_map))
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict

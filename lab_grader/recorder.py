@@ -7,12 +7,15 @@ status_limit of them), and reads the graph for who publishes where.
 
 import time
 
+from courseworks.names import MAPPING, SUBMITTED_MAP_TOPIC
 from lab_grader.publishers import Publisher
+from nav_msgs.msg import OccupancyGrid
 from rclpy.logging import LoggingSeverity
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
+from simple_robot_control.occupancy_map import MapError, OccupancyMap
 from std_msgs.msg import String
 from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import parse_status
@@ -60,6 +63,24 @@ class GradingRecorder(GuardedNode):
         # subscription what the first missed while the publisher's side of the match lagged.
         self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String', JUDGED_QOS,
                                   self._on_status, STATUS_HISTORY)
+        # A mapping submission's map: the last one is judged (kept serialised until then).
+        self._last_map = None
+        if course.task == MAPPING:
+            self.recording.record_now(SUBMITTED_MAP_TOPIC, 'nav_msgs/msg/OccupancyGrid',
+                                      JUDGED_QOS, self._on_map, STATUS_HISTORY)
+
+    def _on_map(self, data, _):
+        self._last_map = data
+
+    def submitted_map(self) -> OccupancyMap | str | None:
+        """Return the last map the submission published, a line saying why it is none, or None."""
+        if self._last_map is None:
+            return None
+        try:
+            return OccupancyMap.from_grid_message(
+                deserialize_message(self._last_map, OccupancyGrid), SUBMITTED_MAP_TOPIC)
+        except MapError as error:
+            return str(error)
 
     @property
     def simulator_matched(self) -> bool:

@@ -6,12 +6,16 @@ coursework's own rule is its judge's (courseworks/), given the course's world as
 loaded it (the course's map and robot, the bundled ones where it names none) and the truth.
 """
 
+import math
+
 from courseworks.grids import Grid
+from courseworks.mapping import judge_map, seen_along
+from courseworks.names import MAPPING, PLANNING, SUBMITTED_MAP_TOPIC
 from courseworks.planning import clearance_along, judge_planning, plan_legs
-from courseworks.tasks import PLANNING, task_thresholds
+from courseworks.tasks import task_thresholds
 from lab_grader.verdicts import Check
 import numpy as np
-from simple_robot_control.occupancy_map import load_map
+from simple_robot_control.occupancy_map import load_map, OccupancyMap
 from stdr_lite.core.loading import map_file, robot_file
 from stdr_lite.core.robot_description import load_robot
 from waypoint_lab.course import Course
@@ -20,14 +24,62 @@ from waypoint_lab.run import Run
 from waypoint_lab.status import UNREACHABLE, WAYPOINT
 
 # The tasks grade_lab runs: the lab's, and the courseworks' whose run it knows how to judge.
-GRADED_TASKS = (WAYPOINTS_TASK, PLANNING)
+GRADED_TASKS = (WAYPOINTS_TASK, PLANNING, MAPPING)
 
 
-def task_checks(course: Course, run: Run) -> list[Check]:
-    """Return the checks course's task adds to the lab's (none for the lab's own task)."""
+def task_checks(course: Course, run: Run,
+                submitted_map: OccupancyMap | str | None = None) -> list[Check]:
+    """
+    Return the checks course's task adds to the lab's (none for the lab's own task).
+
+    submitted_map is a mapping submission's last map, or the line saying why it was none.
+    """
     if course.task == PLANNING:
         return [planning_check(course, run)]
+    if course.task == MAPPING:
+        return [mapping_check(course, run, submitted_map)]
     return []
+
+
+def mapping_check(course: Course, run: Run, submitted: OccupancyMap | str | None) -> Check:
+    """
+    Judge the last map a mapping submission published, over what its laser could have seen.
+
+    The laser is the course's robot's first, cast from the true pose at the laser's rate.
+    """
+    if submitted is None:
+        return Check(MAPPING, False, f'no map on {SUBMITTED_MAP_TOPIC} during the run')
+    if isinstance(submitted, str):
+        return Check(MAPPING, False, f'the last map was no map: {submitted}')
+    world = load_map(map_file(course.map_file))
+    grid = Grid.from_map(world)
+    if (submitted.cells.shape != world.cells.shape
+            # A message's resolution is a float32.
+            or not math.isclose(submitted.resolution, world.resolution, rel_tol=1e-6)
+            or not all(math.isclose(a, b, abs_tol=world.resolution / 2)
+                       for a, b in zip(submitted.origin, world.origin))):
+        return Check(MAPPING, False, f'the map is {submitted.width}x{submitted.height} cells '
+                     f'of {submitted.resolution:g} m from {_corner(submitted.origin)}; the '
+                     f'world is {world.width}x{world.height} of {world.resolution:g} m from '
+                     f'{_corner(world.origin)} (/map_metadata gives it)')
+    robot = load_robot(robot_file(course.robot_file))
+    if not robot.lasers:
+        return Check(MAPPING, False, f"the course's robot {robot_file(course.robot_file)} "
+                     'has no laser to map with')
+    laser = robot.lasers[0]
+    every = max(1, round(1.0 / (laser.frequency * run.step))) if laser.frequency > 0 else 1
+    judgement = judge_map(seen_along(grid, run.poses[::every], laser), submitted.cells,
+                          task_thresholds(MAPPING, course.thresholds))
+    figures = (f'agreement {judgement.agreement:.1%}, coverage {judgement.coverage:.1%}, false '
+               f'walls {judgement.false_walls:.1%}, missed walls {judgement.missed_walls:.1%}, '
+               f'known beyond sight {judgement.unseen:.1%}')
+    if not judgement.passed:
+        return Check(MAPPING, False, f'{"; ".join(judgement.failures)} ({figures})')
+    return Check(MAPPING, True, figures)
+
+
+def _corner(origin):
+    return f'({origin[0]:g}, {origin[1]:g})'
 
 
 def planning_check(course: Course, run: Run) -> Check:

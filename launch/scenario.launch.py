@@ -11,7 +11,7 @@ controller does, or the simulator, and says how it ended.
 
 from pathlib import Path
 
-from courseworks.tasks import REFERENCE_ANSWERS
+from courseworks.names import REFERENCE_ANSWERS
 from lab_grader.courses import read_course, world_parameters
 from launch import LaunchDescription
 from launch.actions import (DeclareLaunchArgument, EmitEvent, LogInfo, OpaqueFunction,
@@ -38,8 +38,11 @@ def bring_up(context):
     path = Path(name) if name.endswith('.txt') else Path(shared_file('scenarios',
                                                                      f'{name}.txt'))
     course = read_course(path)
-    executable = (LaunchConfiguration('controller').perform(context)
-                  or REFERENCE_ANSWERS[course.task])
+    answer = REFERENCE_ANSWERS[course.task]
+    chosen = LaunchConfiguration('controller').perform(context)
+    executable = chosen or answer.controller
+    # Your controller takes none of the reference's parameters; its helpers (a mapper) stay.
+    parameters = {} if chosen else dict(answer.parameters)
     simulator = Node(
         package='simple_robot_control', executable='stdr_lite', name='stdr_lite',
         output='screen',
@@ -50,9 +53,13 @@ def bring_up(context):
     controller = Node(
         package='simple_robot_control', executable=executable, name=executable,
         output='screen',
-        parameters=[{'use_sim_time': True, 'waypoint_file': str(course.waypoint_file)}])
+        parameters=[{**parameters, 'use_sim_time': True,
+                     'waypoint_file': str(course.waypoint_file)}])
+    helpers = [Node(package='simple_robot_control', executable=helper, name=helper,
+                    output='screen', parameters=[{'use_sim_time': True}])
+               for helper in answer.helpers]
     return [
-        simulator, controller,
+        simulator, *helpers, controller,
         RegisterEventHandler(OnProcessExit(target_action=controller,
                                            on_exit=report_and_shut_down(executable))),
         RegisterEventHandler(OnProcessExit(target_action=simulator,

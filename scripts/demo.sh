@@ -51,7 +51,13 @@ elif [ -n "${VIEWER:-}" ]; then
     stdr_viewer --ros-args -p screenshot:=viewer.png --log-level warn &
     viewer=$!
 fi
-trap 'kill -INT $simulator $monitor $viewer 2>/dev/null; wait $simulator $monitor $viewer 2>/dev/null || true' EXIT
+# HELPERS: nodes a scenario's answer runs beside its controller (a mapper), ended with the rest.
+helpers=
+for helper in ${HELPERS:-}; do
+    "$helper" --ros-args --log-level warn &
+    helpers="$helpers $!"
+done
+trap 'kill -INT $simulator $monitor $viewer $helpers 2>/dev/null; wait $simulator $monitor $viewer $helpers 2>/dev/null || true' EXIT
 
 echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast as it goes):"
 # CONTROLLER=policy_controller drives with a learned policy (POLICY: its file; the shipped one).
@@ -59,6 +65,10 @@ echo "Course $course, at most ${speed}x real time (REAL_TIME_FACTOR=0: as fast a
 policy=()
 [ -z "${POLICY:-}" ] || policy=(-p "policy:=$POLICY")
 [ -z "${USE_SIM_TIME:-}" ] || policy+=(-p "use_sim_time:=$USE_SIM_TIME")
+# CONTROLLER_PARAMETERS: name:=value words for the controller (a scenario's answer's).
+for parameter in ${CONTROLLER_PARAMETERS:-}; do
+    policy+=(-p "$parameter")
+done
 "${CONTROLLER:-waypoint_controller}" "$course" --ros-args --log-level warn "${policy[@]}" &
 controller=$!
 status=0

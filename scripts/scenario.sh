@@ -10,7 +10,11 @@ parameters=$(mktemp --suffix=.yaml)
 trap 'rm -f "$parameters"' EXIT
 setup=$(python3 "$(dirname "$0")/scenario_setup.py" "$SCENARIO" "$parameters")
 status=0
-COURSE=$(sed -n 1p <<< "$setup") CONTROLLER=${CONTROLLER:-$(sed -n 2p <<< "$setup")} \
-    PLOT_MAP=$(sed -n 3p <<< "$setup") PLOT_ROBOT_RADIUS=$(sed -n 4p <<< "$setup") \
+line() { sed -n "$1p" <<< "$setup"; }
+# Your CONTROLLER takes none of the reference's parameters, but its helpers (a mapper) stay.
+answer_parameters=$(line 5)
+[ -z "${CONTROLLER:-}" ] || answer_parameters=
+COURSE=$(line 1) CONTROLLER=${CONTROLLER:-$(line 2)} PLOT_MAP=$(line 3) \
+    PLOT_ROBOT_RADIUS=$(line 4) CONTROLLER_PARAMETERS=$answer_parameters HELPERS=$(line 6) \
     SIMULATOR_PARAMETERS=$parameters USE_SIM_TIME=true "$(dirname "$0")/demo.sh" || status=$?
 exit "$status"

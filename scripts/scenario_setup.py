@@ -1,7 +1,8 @@
 """
 Print what bringing a scenario up takes, and write stdr_lite's parameters for its world.
 
-The lines printed: its goal file, its task's reference answer, its map, its robot's radius;
+The lines printed: its goal file, its task's reference controller, its map, its robot's
+radius, the controller's parameters (name:=value words), the nodes run beside it (a mapper);
 the parameters file holds the world's start, map and robot.
 
     python3 scripts/scenario_setup.py SCENARIO PARAMETERS_FILE
@@ -13,7 +14,7 @@ stderr and exit code 2 for a scenario that is not one, or a task with no bundled
 from pathlib import Path
 import sys
 
-from courseworks.tasks import REFERENCE_ANSWERS
+from courseworks.names import REFERENCE_ANSWERS
 from lab_grader.courses import CourseError, read_course, world_parameters
 from simple_robot_control.share import shared_file
 from stdr_lite.core.loading import map_file, robot_file
@@ -40,10 +41,13 @@ def main(argv: list[str]) -> int:
         return 2
     Path(parameters_file).write_text(yaml.safe_dump(
         {'stdr_lite': {'ros__parameters': world_parameters(course)}}))
+    answer = REFERENCE_ANSWERS[course.task]
     print(course.waypoint_file)
-    print(REFERENCE_ANSWERS[course.task])
+    print(answer.controller)
     print(map_file(course.map_file))
     print(load_robot(robot_file(course.robot_file)).radius)
+    print(' '.join(f'{name}:={value}' for name, value in answer.parameters.items()))
+    print(' '.join(answer.helpers))
     return 0
 
 

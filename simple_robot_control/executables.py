@@ -36,6 +36,7 @@ MODULES = {
     'grade_lab': 'lab_grader.grade_lab',
     'policy_controller': 'waypoint_lab.learning.policy_controller',
     'planner_controller': 'coursework_answers.planner_controller',
+    'occupancy_mapper': 'coursework_answers.occupancy_mapper',
 }
 PARAMETER_TABLES = {
     'stdr_lite': 'stdr_lite.node.parameters:PARAMETERS',
@@ -47,6 +48,7 @@ PARAMETER_TABLES = {
     'foxglove_live': 'simple_robot_control.foxglove_live_parameters:PARAMETERS',
     'policy_controller': 'waypoint_lab.parameters:POLICY_CONTROLLER_PARAMETERS',
     'planner_controller': 'coursework_answers.parameters:PLANNER_CONTROLLER_PARAMETERS',
+    'occupancy_mapper': 'coursework_answers.parameters:OCCUPANCY_MAPPER_PARAMETERS',
 }
 
 

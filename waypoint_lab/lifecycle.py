@@ -17,7 +17,8 @@ seconds. A law that plans may also have reachable: False once it finds that no p
 the goal aimed at; the run then reports UNREACHABLE n and goes on to the next goal (the
 planning coursework's rule: a goal given up is said so, not pushed to a stall), and
 remaining(pose): the distance still to go along its plan, which the stall watch then measures
-progress by (a route round a wall leads away from the goal for a while). Laws: the
+progress by (a route round a wall leads away from the goal for a while), afresh each time its
+count of plans changes. Laws: the
 lab's PID answer (waypoint_controller), a learned policy (policy_controller), a student's own
 (FunctionLaw wraps a plain function), the courseworks' planner (coursework_answers). The
 runner node (runner.py) feeds this from ROS; tests and tools feed it poses directly.
@@ -185,6 +186,7 @@ class RunLifecycle:
         self._schedule = ControlSchedule(rules.control_period_ns)
         self._stamp = self._pose = None
         self._retuned = None
+        self._plans = None
 
     @property
     def started(self) -> bool:
@@ -229,6 +231,11 @@ class RunLifecycle:
         remaining = getattr(self.law, 'remaining', None)
         if remaining is not None:
             distance = remaining(pose)
+            plans = getattr(self.law, 'plans', None)
+            if plans != self._plans:
+                # A new plan (a wall found across the old one) is progress measured afresh.
+                self._plans = plans
+                self._stall.restart(now)
         if self._stall.stalled(now, distance, heading):
             ending = self.abort(pose, (
                 f'waypoint {self.next_index + 1} ({goal.x:g}, {goal.y:g}, '

@@ -107,6 +107,8 @@ class CourseRunner(GuardedNode):
         self._started_at = self._odometry_at = time.monotonic()
         self._mismatch_since = self._held = self._waiting = self._unready_since = None
         self._has_map = self._map_given_up = False
+        # The latest map's stamp (0: a map of no time, as a map server's).
+        self.map_stamp_ns = 0
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
                                                        status_qos(len(waypoints)))
         self._course_publisher = self.create_publisher(Path, COURSE_TOPIC, status_qos(0))
@@ -135,7 +137,7 @@ class CourseRunner(GuardedNode):
         return False
 
     def use_map(self, grid: OccupancyMap) -> None:
-        """Give the law the walls of /map (called for each map that comes)."""
+        """Give the law the walls of the map (called for each that comes; map_stamp_ns its)."""
 
     def inputs_ready(self, stamp_ns: int) -> str:
         """
@@ -214,6 +216,7 @@ class CourseRunner(GuardedNode):
             self._map_given_up = True
             self._release_held()
             return
+        self.map_stamp_ns = Time.from_msg(message.header.stamp).nanoseconds
         self.use_map(grid)
         if not self._has_map:
             self.get_logger().info(f'planning around the walls of {self._map_topic} '

@@ -8,6 +8,9 @@ import pytest
 from simple_robot_control.share import installed_executable, shared_file
 from test_grade_lab import verdicts
 
+# Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
+pytestmark = pytest.mark.xdist_group('grade_lab_planning')
+
 PLANNERS = Path(__file__).resolve().parents[1] / 'controllers' / 'planners.py'
 SCENARIOS = ('factory_planning', 'plus_room_planning', 'simple_walls_planning')
 
@@ -24,8 +27,10 @@ def graded(tmp_path_factory):
     for group in ('reference', 'pushes_on', 'gives_up'):
         (groups / group).mkdir(parents=True)
         (groups / group / 'behaviour').write_text(group)
+        # The breaker that pushes on stalls at once (a stall of 2 s ends its run as well).
         command = (f'exec {installed_executable("planner_controller")} "$2"\n'
-                   if group == 'reference' else f'exec {sys.executable} {PLANNERS} "$@"\n')
+                   if group == 'reference' else f'exec {sys.executable} {PLANNERS} "$@" '
+                   '--ros-args -p stall_timeout:=2.0\n')
         script = groups / group / 'run.sh'
         script.write_text(f'#!/bin/sh\n{command}')
         script.chmod(0o755)

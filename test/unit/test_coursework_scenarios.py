@@ -5,8 +5,10 @@ from pathlib import Path
 import re
 
 from courseworks.grids import Grid, inflate
-from courseworks.planning import plan_legs
-from courseworks.tasks import PLANNING, task_thresholds
+from courseworks.mapping import MapThresholds
+from courseworks.names import MAPPING, PLANNING
+from courseworks.planning import plan_legs, PlanningThresholds
+from courseworks.tasks import task_thresholds
 from lab_grader.courses import CourseError, find_courses, read_course
 from lab_grader.grade_lab import main as grade_lab
 import pytest
@@ -16,9 +18,11 @@ from stdr_lite.core.loading import load_world
 from stdr_lite.core.robot_description import load_robot
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-# The goals of each bundled scenario no robot can reach, as its goal file's comment says.
+# The goals of each bundled scenario no robot can reach, as its goal file's comment says: one
+# per planning scenario, none where the robot maps.
 UNREACHABLE = {'factory_planning': [3], 'plus_room_planning': [3],
-               'simple_walls_planning': [3]}
+               'simple_walls_planning': [3], 'factory_mapping': [], 'plus_room_mapping': [],
+               'simple_walls_mapping': []}
 
 
 def map_plans():
@@ -46,11 +50,12 @@ def scenarios():
 def test_every_scenario_names_its_task_world_and_robot(scenarios):
     assert sorted(UNREACHABLE) == [course.name for course in scenarios]
     for course in scenarios:
-        assert course.task == PLANNING
-        assert Path(course.map_file).name in ('factory.yaml', 'plus_room.yaml',
-                                              'simple_walls.yaml')
+        world, task = course.name.rsplit('_', 1)
+        assert course.task == task and task in (PLANNING, MAPPING)
+        assert Path(course.map_file).name == f'{world}.yaml'
         assert Path(course.robot_file).name == 'small_laser_robot.yaml'
-        assert task_thresholds(course.task, course.thresholds).max_path_ratio == 1.5
+        assert task_thresholds(course.task, course.thresholds) == (
+            PlanningThresholds() if task == PLANNING else MapThresholds())
 
 
 def test_each_scenario_starts_clear_and_its_unreachable_goals_are_the_judges(scenarios):
@@ -105,7 +110,7 @@ def test_grade_lab_refuses_a_task_it_does_not_run_yet(tmp_path, capsys):
     assert grade_lab(['--courses', str(tmp_path), '--', 'true', '{waypoints}']) == EXIT_BAD_INPUT
     lines = capsys.readouterr().err.splitlines()
     assert lines == [f"grade_lab: error: {tmp_path / 'goals.yaml'}: grade_lab grades the "
-                     'waypoints and planning tasks; the exploration task is judged by '
+                     'waypoints, planning, mapping tasks; the exploration task is judged by '
                      'courseworks/ but not run by grade_lab yet']
 
 

@@ -1,0 +1,58 @@
+"""
+A mapping submission that copies the world's map rather than building it, for grade_lab's tests.
+
+    python3 map_copier.py
+
+The task hides /map; this finds the bundled map file of /map_metadata's size, publishes its
+cells on /coursework_map as a map built from the laser would be, and ends a second later,
+having driven nowhere.
+"""
+
+import array
+
+from nav_msgs.msg import MapMetaData, OccupancyGrid
+import rclpy
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from simple_robot_control.occupancy_map import load_map
+from simple_robot_control.share import bundled_files
+
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+class MapCopier(Node):
+    def __init__(self):
+        super().__init__('map_copier')
+        self.done = Future()
+        self.publisher = self.create_publisher(OccupancyGrid, '/coursework_map', LATCHED)
+        self.create_subscription(MapMetaData, '/map_metadata', self.copy, LATCHED)
+
+    def copy(self, info):
+        for path in bundled_files('maps').values():
+            world = load_map(path)
+            if (world.width, world.height) == (info.width, info.height):
+                message = OccupancyGrid(info=info)
+                message.header.frame_id = 'map'
+                message.data = array.array('b', world.cells.tobytes())
+                self.publisher.publish(message)
+                print(f'copied {path}', flush=True)
+                self.create_timer(1.0, lambda: self.done.set_result(True))
+                return
+
+
+def main():
+    rclpy.init()
+    node = MapCopier()
+    try:
+        rclpy.spin_until_future_complete(node, node.done)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == '__main__':
+    main()
