@@ -18,8 +18,9 @@ _EIGHT_NEIGHBOURS = np.ones((3, 3), dtype=bool)
 
 def frontier_cells(cells: np.ndarray, min_cells: int = MIN_FRONTIER_CELLS) -> np.ndarray:
     """Return the cells of a grid (nav_msgs values) on frontiers of at least min_cells."""
-    _, free = read_cells(cells)
-    unknown = np.asarray(cells) < 0
+    walls, free = read_cells(cells)
+    # Unknown as map_server reads a grid: -1, or a value between its thresholds (seen once).
+    unknown = ~(walls | free)
     beside_unknown = ndimage.binary_dilation(unknown, structure=_FOUR_NEIGHBOURS)
     frontier = free & beside_unknown
     labels, count = ndimage.label(frontier, structure=_EIGHT_NEIGHBOURS)
@@ -29,12 +30,13 @@ def frontier_cells(cells: np.ndarray, min_cells: int = MIN_FRONTIER_CELLS) -> np
 
 
 def nearest_frontier(cells: np.ndarray, resolution: float, origin: tuple[float, float],
-                     position: tuple[float, float], radius: float) -> tuple[float, float] | None:
+                     position: tuple[float, float], radius: float,
+                     excluded: np.ndarray | None = None) -> tuple[float, float] | None:
     """
     Return the centre of the frontier cell nearest position by a drivable path, None if none.
 
     Drivable: through cells the map knows free, walls grown by radius; the robot's own cell
-    counts as free (it stands there).
+    counts as free (it stands there). Cells of excluded (given up) are no targets.
     """
     walls, free = read_cells(cells)
     grid = Grid(walls, resolution, origin)
@@ -45,6 +47,8 @@ def nearest_frontier(cells: np.ndarray, resolution: float, origin: tuple[float, 
     drivable[here] = True
     lengths = path_lengths(drivable, here, resolution)
     targets = frontier_cells(cells) & np.isfinite(lengths)
+    if excluded is not None:
+        targets &= ~excluded
     if not targets.any():
         return None
     row, column = np.unravel_index(np.argmin(np.where(targets, lengths, np.inf)), lengths.shape)

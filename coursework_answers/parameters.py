@@ -29,6 +29,9 @@ PLANNER_CONTROLLER_PARAMETERS = RUNNER_PARAMETERS + (
     ParameterSpec('map_topic', '/map', 'the nav_msgs/OccupancyGrid planned on (transient local): '
                   "the simulator's /map, or a mapper's growing map (unknown cells are tried)",
                   topic=True),
+    ParameterSpec('explore_for', 0.0, "explore the map's frontiers first, nearest first, for "
+                  'at most this long, then drive the goals (the exploration coursework); 0: '
+                  'drive the goals at once [s of odometry time]', Bounds(0.0, 86400.0)),
     ParameterSpec('max_map_age', 0.0, "for a mapper's map: act on a pose only once a map "
                   'stamped at most this long before it is in (in lockstep the run is then the '
                   'same on any machine); 0: never wait (a map of no time) [s]',

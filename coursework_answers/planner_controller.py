@@ -6,6 +6,8 @@ robot_status as the lab reports waypoints; a goal no route reaches is reported U
 the run goes on. The map is the simulator's /map or, with map_topic, a mapper's growing map:
 a new map showing a wall across the route means planning again from where the robot is; with
 max_map_age each pose waits for a map that fresh, so a run in lockstep is the same anywhere.
+With explore_for it explores the map's frontiers first (explorer_law.py), the exploration
+coursework's reference answer.
 """
 
 import math
@@ -30,23 +32,26 @@ class PlannerController(CourseRunner):
 
     def build_law(self, params, waypoints):
         # Imported with the node: scipy and the compiled rays load while discovery runs.
+        from coursework_answers.explorer_law import ExplorerLaw
         from coursework_answers.route_law import RouteLaw
-        from courseworks.grids import Grid
         from waypoint_controller.config import ControllerConfig
-        self._grid = Grid
         config = ControllerConfig(
             max_linear_speed=params['max_linear_speed'],
             max_angular_speed=params['max_angular_speed'],
             distance_tolerance=params['distance_tolerance'],
             angle_tolerance=math.radians(params['angle_tolerance_deg']))
-        self._law = RouteLaw(waypoints, params['robot_radius'], params['wall_margin'], config)
+        radius, margin = params['robot_radius'], params['wall_margin']
+        if params['explore_for'] > 0.0:
+            self._law = ExplorerLaw(waypoints, radius, margin, config, params['explore_for'])
+        else:
+            self._law = RouteLaw(waypoints, radius, margin, config)
         return self._law, run_rules(params)
 
     def plans_around_walls(self):
         return True
 
     def use_map(self, grid):
-        self._law.use_map(self._grid.from_map(grid, unknown_is_wall=False))
+        self._law.use_map(grid)
         self.answer_waiting()
 
     def inputs_ready(self, stamp_ns):

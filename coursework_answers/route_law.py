@@ -17,6 +17,7 @@ import math
 
 from coursework_answers.planner import plan_route, route_clear
 from courseworks.grids import Grid
+from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import wrap_angle
 from waypoint_controller.config import ControllerConfig
 from waypoint_controller.pid import PID
@@ -49,9 +50,14 @@ class RouteLaw:
         self._distance = PID(config.distance_kp, config.distance_ki, config.distance_kd,
                              config.max_linear_speed)
 
-    def use_map(self, grid: Grid) -> None:
-        """Plan on grid from now on: the route to the current goal is planned again."""
-        self.grid = grid
+    def use_map(self, occupancy_map: OccupancyMap) -> None:
+        """
+        Plan on occupancy_map from now on; its unknown cells are tried (a map still growing).
+
+        The route is checked against it at the next command, and planned again where a wall
+        shows across it.
+        """
+        self.grid = Grid.from_map(occupancy_map, unknown_is_wall=False)
         self._map_changed = True
 
     def aim(self, pose: Pose, index: int) -> None:
@@ -59,9 +65,13 @@ class RouteLaw:
         self._index = index
         self._plan(pose)
 
-    def _plan(self, pose):
+    def target(self, pose: Pose) -> Pose:
+        """Return where the route goes: the goal aimed at (an explorer's goes elsewhere first)."""
         goal = self.goals[self._index]
-        target = (goal.x, goal.y, goal.theta)
+        return goal.x, goal.y, goal.theta
+
+    def _plan(self, pose):
+        target = self.target(pose)
         self.plans += 1
         self._map_changed = False
         if self.grid is None:

@@ -20,10 +20,16 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ExplorationThresholds:
-    """min_coverage: the fraction to see; of_reference: the share of the reference's figure."""
+    """
+    min_coverage: the fraction to see; of_reference: the share of the reference's figure.
+
+    reference_coverage is the reference explorer's figure on the scenario (bench/courseworks.py
+    prints it), written in the scenario's file; without it, all the reachable free space.
+    """
 
     min_coverage: float = 0.0
     of_reference: float = 0.8
+    reference_coverage: float = 1.0
 
 
 @dataclass(frozen=True)

@@ -32,4 +32,7 @@ REFERENCE_ANSWERS = {
     PLANNING: Answer('planner_controller'),
     MAPPING: Answer('planner_controller', {'map_topic': SUBMITTED_MAP_TOPIC, 'max_map_age': 1.5},
                     ('occupancy_mapper',)),
+    EXPLORATION: Answer('planner_controller', {'map_topic': SUBMITTED_MAP_TOPIC,
+                                               'max_map_age': 1.5, 'explore_for': 3600.0},
+                        ('occupancy_mapper',)),
 }

@@ -31,7 +31,6 @@ from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
 from lab_grader.supervision import become_subreaper
-from lab_grader.task_checks import GRADED_TASKS
 from lab_grader.verdicts import ProcessOutcome
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK
@@ -252,11 +251,6 @@ def main(argv=None):
                       angle_tolerance=math.radians(options.angle_tolerance))
     try:
         courses = find_courses(options.courses, defaults)
-        ungraded = [course for course in courses if course.task not in GRADED_TASKS]
-        if ungraded:
-            raise CourseError(f'{ungraded[0].settings_file}: grade_lab grades the '
-                              f'{", ".join(GRADED_TASKS)} tasks; the {ungraded[0].task} '
-                              'task is judged by courseworks/ but not run by grade_lab yet')
         guard = CourseGuard([path for path in options.courses if Path(path).is_dir()],
                             course_files(courses))
         submissions = submissions_of(options)

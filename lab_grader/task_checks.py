@@ -8,9 +8,10 @@ loaded it (the course's map and robot, the bundled ones where it names none) and
 
 import math
 
+from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
 from courseworks.mapping import judge_map, seen_along
-from courseworks.names import MAPPING, PLANNING, SUBMITTED_MAP_TOPIC
+from courseworks.names import EXPLORATION, MAPPING, PLANNING, SUBMITTED_MAP_TOPIC
 from courseworks.planning import clearance_along, judge_planning, plan_legs
 from courseworks.tasks import task_thresholds
 from lab_grader.verdicts import Check
@@ -19,12 +20,8 @@ from simple_robot_control.occupancy_map import load_map, OccupancyMap
 from stdr_lite.core.loading import map_file, robot_file
 from stdr_lite.core.robot_description import load_robot
 from waypoint_lab.course import Course
-from waypoint_lab.rules import WAYPOINTS_TASK
 from waypoint_lab.run import Run
 from waypoint_lab.status import UNREACHABLE, WAYPOINT
-
-# The tasks grade_lab runs: the lab's, and the courseworks' whose run it knows how to judge.
-GRADED_TASKS = (WAYPOINTS_TASK, PLANNING, MAPPING)
 
 
 def task_checks(course: Course, run: Run,
@@ -38,7 +35,32 @@ def task_checks(course: Course, run: Run,
         return [planning_check(course, run)]
     if course.task == MAPPING:
         return [mapping_check(course, run, submitted_map)]
+    if course.task == EXPLORATION:
+        return [exploration_check(course, run)]
     return []
+
+
+def _seen(course, run, grid):
+    """Return what the course's robot's first laser could have seen along the true path."""
+    laser = load_robot(robot_file(course.robot_file)).lasers[0]
+    every = max(1, round(1.0 / (laser.frequency * run.step))) if laser.frequency > 0 else 1
+    return seen_along(grid, run.poses[::every], laser)
+
+
+def exploration_check(course: Course, run: Run) -> Check:
+    """Judge the reachable free space the laser saw along the true path, against the reference."""
+    grid = Grid.from_map(load_map(map_file(course.map_file)))
+    if not load_robot(robot_file(course.robot_file)).lasers:
+        return Check(EXPLORATION, False, f"the course's robot {robot_file(course.robot_file)} "
+                     'has no laser to explore with')
+    thresholds = task_thresholds(EXPLORATION, course.thresholds)
+    judgement = judge_exploration(reachable_free(grid, course.start[:2]),
+                                  _seen(course, run, grid), thresholds.reference_coverage,
+                                  thresholds)
+    if not judgement.passed:
+        return Check(EXPLORATION, False, '; '.join(judgement.failures))
+    return Check(EXPLORATION, True, f'saw {judgement.coverage:.1%} of the reachable free space '
+                 f"(the reference explorer's {judgement.reference:.1%})")
 
 
 def mapping_check(course: Course, run: Run, submitted: OccupancyMap | str | None) -> Check:
@@ -66,9 +88,7 @@ def mapping_check(course: Course, run: Run, submitted: OccupancyMap | str | None
     if not robot.lasers:
         return Check(MAPPING, False, f"the course's robot {robot_file(course.robot_file)} "
                      'has no laser to map with')
-    laser = robot.lasers[0]
-    every = max(1, round(1.0 / (laser.frequency * run.step))) if laser.frequency > 0 else 1
-    judgement = judge_map(seen_along(grid, run.poses[::every], laser), submitted.cells,
+    judgement = judge_map(_seen(course, run, grid), submitted.cells,
                           task_thresholds(MAPPING, course.thresholds))
     figures = (f'agreement {judgement.agreement:.1%}, coverage {judgement.coverage:.1%}, false '
                f'walls {judgement.false_walls:.1%}, missed walls {judgement.missed_walls:.1%}, '

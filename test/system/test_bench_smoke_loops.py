@@ -25,3 +25,10 @@ def test_the_learning_bench_prints_the_vector_against_the_single_env():
         r'steps/s \(rounds: [\d.]+ to [\d.]+; target >= 20x: (met|missed)\)',
         r'^a step of the single environment, \d+ us of CPU: world \d+, laser \d+, observation '
         r'\d+, goal sets and reward \d+, commands \d+, environment and wrappers -?\d+$')
+
+
+def test_the_courseworks_bench_prints_the_reference_answers_figures():
+    assert_smoke_run_prints(
+        'courseworks', r'^plus_room_mapping +PASS  agreement 1\.000, coverage 0\.9\d\d, ',
+        r'^plus_room_planning +PASS  path 0\.9\d\dx the shortest, clearance \d\.\d\dx the radius;'
+        r' \d+\.\d s sim, \d+x real time in CPU time$')

@@ -1,4 +1,4 @@
-"""grade_lab on the mapping coursework: the reference answer passes, a copied map fails."""
+"""grade_lab on the mapping and exploration courseworks: the answers pass, cheats fail."""
 
 from pathlib import Path
 import sys
@@ -17,43 +17,70 @@ COPIER = Path(__file__).resolve().parents[1] / 'controllers' / 'map_copier.py'
 SCENARIOS = ('plus_room_mapping', 'simple_walls_mapping')
 
 
-def reference_script():
-    """Return the mapping reference answer as one command: the mapper beside the planner."""
+def reference_script(*parameters):
+    """Return a reference answer as one command: the mapper beside the planner on its map."""
+    extra = ''.join(f' -p {parameter}' for parameter in parameters)
     return (f'{installed_executable("occupancy_mapper")} & mapper=$!\n'
             f'{installed_executable("planner_controller")} "$2" --ros-args '
-            '-p map_topic:=/coursework_map -p max_map_age:=1.5\n'
+            f'-p map_topic:=/coursework_map -p max_map_age:=1.5{extra}\n'
             'code=$?\nkill -INT $mapper\nwait $mapper\nexit $code\n')
+
+
+def write_groups(folder, scripts):
+    for group, script in scripts.items():
+        (folder / group).mkdir(parents=True)
+        (folder / group / 'run.sh').write_text(f'#!/bin/sh\n{script}')
+        (folder / group / 'run.sh').chmod(0o755)
+    return folder
 
 
 @pytest.fixture(scope='module')
 def graded(tmp_path_factory):
-    """Grade the reference and a map copier on the bundled mapping scenarios of SCENARIOS."""
+    """
+    Grade the mapping reference and a map copier on SCENARIOS; the explorer and one standing still.
+
+    The copier publishes the world's map file and ends, having driven nowhere: on the
+    exploration scenario it stands for an explorer that stands still.
+    """
     root = tmp_path_factory.mktemp('mapping')
-    groups = root / 'groups'
-    for group, script in (('reference', reference_script()),
-                          ('copies_map', f'exec {sys.executable} {COPIER}\n')):
-        (groups / group).mkdir(parents=True)
-        (groups / group / 'run.sh').write_text(f'#!/bin/sh\n{script}')
-        (groups / group / 'run.sh').chmod(0o755)
-    report = root / 'report'
-    result = grade('--courses', *(shared_file('scenarios', f'{name}.txt') for name in SCENARIOS),
-                   '--submissions', groups, '--jobs', 3, '--lockstep', '--real-time-factor', 0,
-                   '--report', report, '--', './run.sh', '@', '{waypoints}', cwd=root,
-                   timeout=900)
-    return result, report
+    copier = f'exec {sys.executable} {COPIER}\n'
+    gradings = (
+        (write_groups(root / 'mapping', {'reference': reference_script(),
+                                         'copies_map': copier}), SCENARIOS),
+        (write_groups(root / 'exploration', {
+            'explorer': reference_script('explore_for:=3600.0'), 'stands_still': copier}),
+         ('plus_room_exploration',)))
+    results = {}
+    for groups, scenarios in gradings:
+        results[groups.name] = grade(
+            '--courses', *(shared_file('scenarios', f'{name}.txt') for name in scenarios),
+            '--submissions', groups, '--jobs', 3, '--lockstep', '--real-time-factor', 0,
+            '--report', root / 'report' / groups.name, '--', './run.sh', '@', '{waypoints}',
+            cwd=root, timeout=900)
+    return results, root / 'report'
 
 
 @pytest.mark.parametrize('course', SCENARIOS)
 def test_the_reference_mapper_and_planner_pass_the_scenarios(graded, course):
-    result, report = graded
-    checks = verdicts(report, 'reference', course)
+    results, report = graded
+    checks = verdicts(report / 'mapping', 'reference', course)
     failed = {name: evidence for name, (passed, evidence) in checks.items() if not passed}
-    assert not failed and f'reference / {course}: PASS' in result.stdout
+    assert not failed and f'reference / {course}: PASS' in results['mapping'].stdout
     assert checks['mapping'][0]
 
 
 def test_a_map_copied_from_the_map_file_fails_as_not_built_from_the_laser(graded):
-    result, report = graded
-    evidence = verdicts(report, 'copies_map', 'plus_room_mapping')['mapping']
+    results, report = graded
+    evidence = verdicts(report / 'mapping', 'copies_map', 'plus_room_mapping')['mapping']
     assert not evidence[0] and 'not built from the laser alone' in evidence[1]
-    assert result.returncode == 1
+    assert results['mapping'].returncode == 1
+
+
+def test_the_reference_explorer_passes_and_one_standing_still_fails(graded):
+    results, report = graded
+    explored = verdicts(report / 'exploration', 'explorer', 'plus_room_exploration')
+    assert all(passed for passed, _ in explored.values()) and 'exploration' in explored
+    passed, evidence = verdicts(report / 'exploration', 'stands_still',
+                                'plus_room_exploration')['exploration']
+    assert not passed and evidence.startswith('saw 18.6% of the reachable free space, needs '
+                                              "80.0% (80% of the reference explorer's 100.0%)")

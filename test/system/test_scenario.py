@@ -30,5 +30,5 @@ def test_an_unknown_scenario_is_refused_in_one_line(tmp_path):
     assert result.returncode == 2
     assert result.stderr.splitlines() == [
         "scenario: 'factory_planing' is neither a course file nor a bundled scenario "
-        '(factory_mapping, factory_planning, plus_room_mapping, plus_room_planning, '
-        'simple_walls_mapping, simple_walls_planning)']
+        '(factory_exploration, factory_mapping, factory_planning, plus_room_exploration, '
+        'plus_room_mapping, plus_room_planning, simple_walls_mapping, simple_walls_planning)']

@@ -42,7 +42,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
     'courseworks/*.py'] + [f'coursework_answers/{name}.py' for name in (
-        'mapper', 'frontiers', 'planner', 'route_law', 'parameters')]
+        'mapper', 'frontiers', 'planner', 'route_law', 'parameters', 'reference_run')]
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -84,8 +84,8 @@ ALLOWED = {
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
     'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},
     'courseworks': {'simple_robot_control', 'waypoint_lab'},
-    'coursework_answers': {'simple_robot_control', 'waypoint_lab', 'waypoint_controller',
-                           'courseworks'},
+    'coursework_answers': {'simple_robot_control', 'stdr_lite', 'waypoint_lab',
+                           'waypoint_controller', 'courseworks'},
 }
 
 

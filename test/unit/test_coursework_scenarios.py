@@ -4,15 +4,14 @@ import importlib.util
 from pathlib import Path
 import re
 
+from courseworks.exploration import ExplorationThresholds
 from courseworks.grids import Grid, inflate
 from courseworks.mapping import MapThresholds
-from courseworks.names import MAPPING, PLANNING
+from courseworks.names import EXPLORATION, MAPPING, PLANNING
 from courseworks.planning import plan_legs, PlanningThresholds
 from courseworks.tasks import task_thresholds
 from lab_grader.courses import CourseError, find_courses, read_course
-from lab_grader.grade_lab import main as grade_lab
 import pytest
-from simple_robot_control.exit_codes import EXIT_BAD_INPUT
 from simple_robot_control.occupancy_map import load_map
 from stdr_lite.core.loading import load_world
 from stdr_lite.core.robot_description import load_robot
@@ -22,7 +21,9 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 # per planning scenario, none where the robot maps.
 UNREACHABLE = {'factory_planning': [3], 'plus_room_planning': [3],
                'simple_walls_planning': [3], 'factory_mapping': [], 'plus_room_mapping': [],
-               'simple_walls_mapping': []}
+               'simple_walls_mapping': [], 'factory_exploration': [], 'plus_room_exploration': []}
+THRESHOLDS = {PLANNING: PlanningThresholds(), MAPPING: MapThresholds(),
+              EXPLORATION: ExplorationThresholds(reference_coverage=1.0)}
 
 
 def map_plans():
@@ -51,11 +52,10 @@ def test_every_scenario_names_its_task_world_and_robot(scenarios):
     assert sorted(UNREACHABLE) == [course.name for course in scenarios]
     for course in scenarios:
         world, task = course.name.rsplit('_', 1)
-        assert course.task == task and task in (PLANNING, MAPPING)
+        assert course.task == task
         assert Path(course.map_file).name == f'{world}.yaml'
         assert Path(course.robot_file).name == 'small_laser_robot.yaml'
-        assert task_thresholds(course.task, course.thresholds) == (
-            PlanningThresholds() if task == PLANNING else MapThresholds())
+        assert task_thresholds(course.task, course.thresholds) == THRESHOLDS[task]
 
 
 def test_each_scenario_starts_clear_and_its_unreachable_goals_are_the_judges(scenarios):
@@ -103,15 +103,6 @@ def test_a_bad_scenario_is_refused_in_one_line(tmp_path, settings, complaint):
     with pytest.raises(CourseError) as error:
         read_course(write(tmp_path, settings))
     assert str(error.value) == f'{tmp_path / "goals.yaml"}: {complaint}'
-
-
-def test_grade_lab_refuses_a_task_it_does_not_run_yet(tmp_path, capsys):
-    write(tmp_path, 'task: exploration\n')
-    assert grade_lab(['--courses', str(tmp_path), '--', 'true', '{waypoints}']) == EXIT_BAD_INPUT
-    lines = capsys.readouterr().err.splitlines()
-    assert lines == [f"grade_lab: error: {tmp_path / 'goals.yaml'}: grade_lab grades the "
-                     'waypoints, planning, mapping tasks; the exploration task is judged by '
-                     'courseworks/ but not run by grade_lab yet']
 
 
 def test_the_courseworks_page_example_prints_what_the_page_shows(tmp_path, monkeypatch, capsys):
