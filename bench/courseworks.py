@@ -10,7 +10,8 @@ judges, which grade_lab uses. Printed per scenario:
 - mapping: the judge's agreement, coverage, false and missed walls, and what the map knows
   beyond the laser's sight (all fractions), the verdict;
 - exploration: the share of the reachable free space seen, and over the scenario's reference
-  figure (a scenario's reference_coverage is this bench's coverage);
+  figure (a scenario's reference_coverage is this bench's coverage), and the share seen by
+  each quarter of the run's sim time;
 - both: sim time over the CPU time it took (how much faster than real time a run goes here).
 
 --smoke runs the plus room's mapping and planning scenarios only (seconds), as make test does.
@@ -19,7 +20,7 @@ judges, which grade_lab uses. Printed per scenario:
 import argparse
 import sys
 
-from coursework_answers.reference_run import run_reference
+from coursework_answers.reference_run import ReferenceRun, run_reference
 from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
 from courseworks.mapping import judge_map, seen_along
@@ -58,12 +59,20 @@ def sight(run, grid, robot):
 
 
 def exploration_figures(course, run, grid, robot):
-    """Return the exploration judge's verdict and figures of a reference run."""
+    """Return the exploration judge's verdict and figures: the coverage at each quarter too."""
     thresholds = task_thresholds(course.task, course.thresholds)
-    judgement = judge_exploration(reachable_free(grid, course.start[:2]), sight(run, grid, robot),
+    reachable = reachable_free(grid, course.start[:2])
+    judgement = judge_exploration(reachable, sight(run, grid, robot),
                                   thresholds.reference_coverage, thresholds)
+    quarters = []
+    for quarter in (1, 2, 3):
+        part = ReferenceRun(run.times[:len(run.times) * quarter // 4],
+                            run.poses[:len(run.times) * quarter // 4], [], None, '', None, 0.0)
+        quarters.append(judge_exploration(reachable, sight(part, grid, robot), 1.0).coverage)
+    over_time = ', '.join(f'{value:.2f}' for value in (*quarters, judgement.coverage))
     return judgement, (f'coverage {judgement.coverage:.3f}, '
-                       f'{judgement.coverage / judgement.reference:.3f}x the reference')
+                       f'{judgement.coverage / judgement.reference:.3f}x the reference; at each '
+                       f'quarter of the sim time {over_time}')
 
 
 def mapping_figures(course, run, grid, robot):

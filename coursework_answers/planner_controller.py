@@ -11,11 +11,10 @@ coursework's reference answer.
 """
 
 import math
-import sys
 
 from coursework_answers.parameters import PLANNER_CONTROLLER_PARAMETERS
-from simple_robot_control.node_runtime import build_parser, run
-from waypoint_lab.runner import CourseRunner, NOT_YET, READY, run_rules, WAIT
+from waypoint_lab.runner import (CourseRunner, NOT_YET, READY, run_controller, run_rules,
+                                 WAIT)
 
 DESCRIPTION = ('planner_controller: drive the robot to the goals of WAYPOINT_FILE (x y theta '
                'triples in m, m, degrees) by routes planned on the map, reporting STARTED, '
@@ -69,11 +68,8 @@ class PlannerController(CourseRunner):
 
 
 def main(argv=None):
-    parser = build_parser('planner_controller', DESCRIPTION, PLANNER_CONTROLLER_PARAMETERS)
-    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
-                        help='waypoint file; the waypoint_file parameter is the alternative')
-    sys.exit(run('planner_controller', parser,
-                 lambda options: PlannerController(options.waypoint_file), argv))
+    run_controller('planner_controller', DESCRIPTION, PLANNER_CONTROLLER_PARAMETERS,
+                   PlannerController, argv)
 
 
 if __name__ == '__main__':

@@ -20,7 +20,7 @@ from courseworks.grids import Grid
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import wrap_angle
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.pid import PID
+from waypoint_controller.pid import lab_pids
 from waypoint_lab.waypoints import Waypoint
 
 # A corner is passed within this distance; the robot drives only when it faces the corner
@@ -45,10 +45,7 @@ class RouteLaw:
         self._corner = 0
         self._index = None
         self._map_changed = False
-        self._heading = PID(config.heading_kp, config.heading_ki, config.heading_kd,
-                            config.max_angular_speed)
-        self._distance = PID(config.distance_kp, config.distance_ki, config.distance_kd,
-                             config.max_linear_speed)
+        self._heading, self._distance = lab_pids(config)
 
     def use_map(self, occupancy_map: OccupancyMap) -> None:
         """

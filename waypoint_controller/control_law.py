@@ -14,7 +14,7 @@ import math
 
 from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.config import ControllerConfig
-from waypoint_controller.pid import PID
+from waypoint_controller.pid import lab_pids
 from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
 
 # Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
@@ -55,10 +55,7 @@ class PoseController:
         config.validate()
         self.config = config
         self.is_free = is_free
-        self._heading_pid = PID(config.heading_kp, config.heading_ki, config.heading_kd,
-                                config.max_angular_speed)
-        self._distance_pid = PID(config.distance_kp, config.distance_ki, config.distance_kd,
-                                 config.max_linear_speed)
+        self._heading_pid, self._distance_pid = lab_pids(config)
         self.waypoint = self.next_waypoint = self.plan = None
         self.replans = 0
         self._elapsed = 0.0

@@ -1,4 +1,6 @@
-"""A PID controller with output saturation and anti-windup."""
+"""A PID controller with output saturation and anti-windup, and the lab's two."""
+
+from waypoint_controller.config import ControllerConfig
 
 
 class PID:
@@ -39,3 +41,10 @@ class PID:
         if output == unsaturated or (output > 0.0) != (error > 0.0):
             self._integral = candidate_integral
         return output
+
+
+def lab_pids(config: ControllerConfig) -> tuple[PID, PID]:
+    """Return the lab's two PIDs under config: on heading (to the turn rate), on distance."""
+    return (PID(config.heading_kp, config.heading_ki, config.heading_kd, config.max_angular_speed),
+            PID(config.distance_kp, config.distance_ki, config.distance_kd,
+                config.max_linear_speed))

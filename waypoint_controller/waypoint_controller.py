@@ -2,14 +2,12 @@
 
 import dataclasses
 import math
-import sys
 
-from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import accept_tuning
 from simple_robot_control.validation import ConfigError
 from waypoint_controller.control_law import PlannedLaw
 from waypoint_controller.parameters import DEFAULTS, PARAMETERS
-from waypoint_lab.runner import CourseRunner, run_rules
+from waypoint_lab.runner import CourseRunner, run_controller, run_rules
 
 _CONFIG_FIELDS = ('max_linear_speed', 'max_angular_speed', 'distance_tolerance', 'heading_kp',
                   'heading_ki', 'heading_kd', 'distance_kp', 'distance_ki', 'distance_kd')
@@ -61,11 +59,7 @@ class WaypointController(CourseRunner):
 
 
 def main(argv=None):
-    parser = build_parser('waypoint_controller', DESCRIPTION, PARAMETERS)
-    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
-                        help='waypoint file; the waypoint_file parameter is the alternative')
-    sys.exit(run('waypoint_controller', parser,
-                 lambda options: WaypointController(options.waypoint_file), argv))
+    run_controller('waypoint_controller', DESCRIPTION, PARAMETERS, WaypointController, argv)
 
 
 if __name__ == '__main__':

@@ -12,6 +12,7 @@ A controller subclasses it and gives build_law(); waypoint_controller and policy
 are two such.
 """
 
+import argparse
 from collections.abc import Callable, Sequence
 import math
 import os
@@ -351,6 +352,22 @@ class FunctionController(CourseRunner):
         return FunctionLaw(waypoints, self._function), run_rules(params)
 
 
+def course_parser(name: str, description: str, parameters: Sequence) -> argparse.ArgumentParser:
+    """Return a controller's command-line parser: its ROS parameters, and the waypoint file."""
+    parser = build_parser(name, description, parameters)
+    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
+                        help='waypoint file; the waypoint_file parameter is the alternative')
+    return parser
+
+
+def run_controller(name: str, description: str, parameters: Sequence,
+                   make_node: Callable[[str | None], CourseRunner],
+                   argv: list[str] | None = None) -> None:
+    """Run a controller of the lab from its command line (make_node(waypoint_file)); exit."""
+    sys.exit(run(name, course_parser(name, description, parameters),
+                 lambda options: make_node(options.waypoint_file), argv))
+
+
 def drive(law: Callable[[Pose, Waypoint, float], tuple[float, float]],
           argv: list[str] | None = None) -> None:
     """
@@ -362,13 +379,10 @@ def drive(law: Callable[[Pose, Waypoint, float], tuple[float, float]],
     """
     argv = list(sys.argv if argv is None else argv)
     name = os.path.splitext(os.path.basename(argv[0]))[0] or 'my_controller'
-    parser = build_parser(name, f'{name}: drive the robot through the waypoints of '
-                          'WAYPOINT_FILE with a control law of your own, reporting on '
-                          'robot_status as the lab asks.', RUNNER_PARAMETERS)
-    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
-                        help='waypoint file; the waypoint_file parameter is the alternative')
-    sys.exit(run(name, parser, lambda options: FunctionController(
-        law, options.waypoint_file, node_name=_node_name(name)), argv))
+    run_controller(name, f'{name}: drive the robot through the waypoints of WAYPOINT_FILE with '
+                   'a control law of your own, reporting on robot_status as the lab asks.',
+                   RUNNER_PARAMETERS, lambda waypoint_file: FunctionController(
+                       law, waypoint_file, node_name=_node_name(name)), argv)
 
 
 def _node_name(name):

@@ -14,19 +14,17 @@ run on any machine. As the executable policy_controller it drives with a trained
 does.
 """
 
-import sys
-
 import numpy as np
 from rclpy.time import Time
 from sensor_msgs.msg import LaserScan
-from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.validation import ConfigError
 from stdr_lite.core.sensors import relative_angles
 from waypoint_lab.learning.arena import laser_robot
 from waypoint_lab.learning.numpy_policy import NumpyPolicy, PolicyFileError
 from waypoint_lab.learning.task import observe, TaskSettings
 from waypoint_lab.parameters import POLICY_CONTROLLER_PARAMETERS
-from waypoint_lab.runner import CourseRunner, NOT_YET, READY, run_rules, WAIT
+from waypoint_lab.runner import (CourseRunner, NOT_YET, READY, run_controller, run_rules,
+                                 WAIT)
 
 
 DESCRIPTION = ('policy_controller: drive a robot through a waypoint file with a learned policy '
@@ -121,12 +119,8 @@ class PolicyController(CourseRunner):
 
 
 def main(argv=None):
-    parser = build_parser('policy_controller', DESCRIPTION,
-                          POLICY_CONTROLLER_PARAMETERS)
-    parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
-                        help='waypoint file; the waypoint_file parameter is the alternative')
-    sys.exit(run('policy_controller', parser,
-                 lambda options: PolicyController(waypoint_file=options.waypoint_file), argv))
+    run_controller('policy_controller', DESCRIPTION, POLICY_CONTROLLER_PARAMETERS,
+                   lambda waypoint_file: PolicyController(waypoint_file=waypoint_file), argv)
 
 
 if __name__ == '__main__':
