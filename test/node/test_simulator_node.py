@@ -177,16 +177,21 @@ def test_a_simulator_started_paused_publishes_nothing_until_played(ros_context, 
     assert stamps(probe.odometry)[0] == (0 if lockstep else 20_000_000)
 
 
-def test_late_subscriber_receives_the_map(ros_context, executor):
-    start(ros_context, executor)
+def latched_message(ros_context, executor, message_type, topic):
+    """Return the first message a late reader (reliable, transient local) gets on topic."""
     received = []
     late = Node('late', context=ros_context)
     executor.add_node(late)
     latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    late.create_subscription(OccupancyGrid, '/map', received.append, latched)
-    spin_until(executor, lambda: received, what='/map')
-    grid = received[0]
+    late.create_subscription(message_type, topic, received.append, latched)
+    spin_until(executor, lambda: received, what=topic)
+    return late, received[0]
+
+
+def test_late_subscriber_receives_the_map(ros_context, executor):
+    start(ros_context, executor)
+    _, grid = latched_message(ros_context, executor, OccupancyGrid, '/map')
     assert (grid.info.width, grid.info.height) == (400, 300)
     assert grid.info.resolution == pytest.approx(0.05)
     assert len(grid.data) == 400 * 300 and grid.data[0] == 100 and grid.data[150 * 400 + 200] == 0
@@ -196,15 +201,8 @@ def test_late_subscriber_receives_the_map(ros_context, executor):
 def test_a_hidden_map_gives_its_geometry_alone(ros_context, executor):
     """map_visible false: /map_metadata (latched), no /map, no GetMap service."""
     start(ros_context, executor, map_visible=False)
-    received = []
-    late = Node('late', context=ros_context)
-    executor.add_node(late)
-    latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    late.create_subscription(MapMetaData, '/map_metadata', received.append, latched)
-    spin_until(executor, lambda: received, what='/map_metadata')
-    assert (received[0].width, received[0].height) == (400, 300)
-    assert received[0].resolution == pytest.approx(0.05)
+    late, info = latched_message(ros_context, executor, MapMetaData, '/map_metadata')
+    assert (info.width, info.height) == (400, 300) and info.resolution == pytest.approx(0.05)
     assert late.count_publishers('/map') == 0
     services = {name for name, _ in late.get_service_names_and_types()}
     assert not services & {'/static_map', '/map_server/map'}
