@@ -18,7 +18,8 @@ the goal aimed at; the run then reports UNREACHABLE n and goes on to the next go
 planning coursework's rule: a goal given up is said so, not pushed to a stall), and
 remaining(pose): the distance still to go along its plan, which the stall watch then measures
 progress by (a route round a wall leads away from the goal for a while), afresh each time its
-count of plans changes. Laws: the
+count of plans changes, and exploring: while true, no goal counts as reached (an explorer
+crosses goal sets on its way). Laws: the
 lab's PID answer (waypoint_controller), a learned policy (policy_controller), a student's own
 (FunctionLaw wraps a plain function), the courseworks' planner (coursework_answers). The
 runner node (runner.py) feeds this from ROS; tests and tools feed it poses directly.
@@ -218,7 +219,8 @@ class RunLifecycle:
         self._stamp, self._pose = stamp_ns, pose
         now = stamp_ns * 1e-9
         statuses = [started(pose)] if first else []
-        reached = self._advance(pose)
+        # An exploring law passes through goal sets on its way: none counts until it is done.
+        reached = () if getattr(self.law, 'exploring', False) else self._advance(pose)
         statuses += [waypoint_reached(index + 1, pose) for index in reached]
         if (first or reached) and self.next_index < len(self.waypoints):
             self._aim(pose, now)

@@ -177,3 +177,12 @@ def test_a_law_that_finds_its_goal_unreachable_later_gives_it_up_then():
     outcome = run.observe(20 * MS, (0.0, 0.0, 0.0))
     assert kinds(outcome) == ['UNREACHABLE'] and parse_status(outcome.statuses[0]).number == 1
     assert [index for _, index in law.aims] == [0, 1] and outcome.exit_code is None
+
+
+def test_no_goal_counts_while_the_law_explores():
+    law = Planner(set())
+    law.exploring = True
+    run = RunLifecycle(COURSE, law)
+    assert kinds(run.observe(0, (1.0, 0.0, 0.0))) == ['STARTED']
+    law.exploring = False
+    assert kinds(run.observe(20 * MS, (1.0, 0.0, 0.0))) == ['WAYPOINT']
