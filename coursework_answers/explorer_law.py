@@ -34,7 +34,6 @@ class ExplorerLaw(RouteLaw):
         super().__init__(goals, radius, margin, config)
         self.explore_for = explore_for
         self.exploring = True
-        self.frontiers_reached = 0
         self._map = self._frontier_cells = self._given_up = None
         self._frontier = None
         self._elapsed = 0.0
@@ -83,7 +82,6 @@ class ExplorerLaw(RouteLaw):
         if math.hypot(x - pose[0], y - pose[1]) < PASS_DISTANCE:
             # Reached: whatever stays unknown there (behind the robot, out of the laser's
             # field) is no longer worth a trip.
-            self.frontiers_reached += 1
             self._give_up(self._frontier)
             return True
         if self._frontier_cells is None:
