@@ -23,7 +23,7 @@ import sys
 from coursework_answers.reference_run import ReferenceRun, run_reference
 from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
-from courseworks.mapping import judge_map, seen_along
+from courseworks.mapping import judge_map, seen_along_run
 from courseworks.names import EXPLORATION, MAPPING
 from courseworks.planning import clearance_along, judge_planning, plan_legs
 from courseworks.tasks import task_thresholds
@@ -53,9 +53,7 @@ def planning_figures(course, run, grid, radius):
 
 def sight(run, grid, robot):
     """Return what the robot's laser could have seen along the run, at the laser's rate."""
-    laser = robot.lasers[0]
-    every = max(1, round(1.0 / (laser.frequency * (run.times[1] - run.times[0]))))
-    return seen_along(grid, run.poses[::every], laser)
+    return seen_along_run(grid, run.poses, run.times[1] - run.times[0], robot.lasers[0])
 
 
 def exploration_figures(course, run, grid, robot):

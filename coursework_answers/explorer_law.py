@@ -94,7 +94,4 @@ class ExplorerLaw(RouteLaw):
         return self._map is not None and read_cells(self._map.cells)[1].any()
 
     def _give_up(self, point):
-        rows, columns = np.indices(self._given_up.shape)
-        resolution, (x0, y0) = self._map.resolution, self._map.origin[:2]
-        self._given_up |= np.hypot(x0 + (columns + 0.5) * resolution - point[0],
-                                   y0 + (rows + 0.5) * resolution - point[1]) <= GIVE_UP_DISTANCE
+        self._given_up |= self.grid.within(point, GIVE_UP_DISTANCE)

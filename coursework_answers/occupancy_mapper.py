@@ -12,7 +12,6 @@ map_topic plans on it as it grows.
 
 import array
 from collections import deque
-import math
 import sys
 
 from coursework_answers.parameters import OCCUPANCY_MAPPER_PARAMETERS
@@ -25,7 +24,7 @@ from sensor_msgs.msg import LaserScan
 from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters
-from simple_robot_control.pose import pose_from_message, yaw_from_quaternion
+from simple_robot_control.pose import compose, pose_from_message, yaw_from_quaternion
 
 DESCRIPTION = ("occupancy_mapper: build the occupancy grid of the world from the robot's "
                'laser and odometry, on the geometry of /map_metadata, and publish it as '
@@ -101,12 +100,9 @@ class OccupancyMapper(GuardedNode):
         pose = next((pose for when, pose in reversed(self._poses) if when <= stamp), None)
         if pose is None:
             return
-        x, y, theta = pose
-        mount_x, mount_y, mount_theta = self.params['laser_pose']
-        laser = (x + mount_x * math.cos(theta) - mount_y * math.sin(theta),
-                 y + mount_x * math.sin(theta) + mount_y * math.cos(theta), theta + mount_theta)
-        self.mapper.add_scan(laser, scan.angle_min, scan.angle_increment,
-                             np.asarray(scan.ranges, dtype=float), scan.range_max)
+        self.mapper.add_scan(compose(pose, self.params['laser_pose']), scan.angle_min,
+                             scan.angle_increment, np.asarray(scan.ranges, dtype=float),
+                             scan.range_max)
         self.scans += 1
         if self.scans % self.params['publish_every'] == 0:
             self.publish_map(scan.header.stamp)

@@ -36,7 +36,7 @@ def plan_route(grid: Grid, radius: float, start: tuple[float, float, float],
     first, last = grid.cell_of(*start[:2]), grid.cell_of(*goal[:2])
     if first is None or last is None or not free[last]:
         return None
-    free |= _around(grid, start, 2.0 * radius) & ~grid.walls
+    free |= grid.within(start[:2], 2.0 * radius) & ~grid.walls
     cost = np.where(kept & ~grown, MARGIN_COST, 1.0)
     cells = shortest_path(free, first, last, grid.resolution, cost)
     if not cells:
@@ -56,14 +56,6 @@ def plan_route(grid: Grid, radius: float, start: tuple[float, float, float],
              for (x0, y0), (x, y) in zip(corners, corners[1:])]
     route[-1] = (goal[0], goal[1], goal[2])
     return route
-
-
-def _around(grid, point, distance):
-    """Return the cells whose centres lie within distance of point."""
-    rows, columns = np.indices(grid.shape)
-    x = grid.origin[0] + (columns + 0.5) * grid.resolution
-    y = grid.origin[1] + (rows + 0.5) * grid.resolution
-    return np.hypot(x - point[0], y - point[1]) <= distance
 
 
 def route_clear(grid: Grid, radius: float, route: list[tuple[float, float, float]]) -> bool:

@@ -16,6 +16,7 @@ from coursework_answers.explorer_law import ExplorerLaw
 from coursework_answers.mapper import LogOddsMapper
 from coursework_answers.route_law import RouteLaw
 from courseworks.grids import Grid
+from courseworks.mapping import scan_every
 from courseworks.names import EXPLORATION, HIDES_MAP
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
@@ -59,7 +60,7 @@ def run_reference(course: Course) -> ReferenceRun:
     if course.task in HIDES_MAP:
         laser = robot.lasers[0]
         mapper = LogOddsMapper(truth.shape, truth.resolution, truth.origin)
-        every = max(1, round(1.0 / (laser.frequency * world.dt)))
+        every = scan_every(laser, world.dt)
         increment = (laser.max_angle - laser.min_angle) / max(laser.num_rays - 1, 1)
     else:
         law.use_map(world.occupancy_map)

@@ -66,6 +66,12 @@ class Grid:
         rows, columns = self.shape
         return (row, column) if 0 <= row < rows and 0 <= column < columns else None
 
+    def within(self, point: tuple[float, float], distance: float) -> np.ndarray:
+        """Return the cells whose centres lie within distance of point."""
+        rows, columns = np.indices(self.shape)
+        return np.hypot(self.origin[0] + (columns + 0.5) * self.resolution - point[0],
+                        self.origin[1] + (rows + 0.5) * self.resolution - point[1]) <= distance
+
     def centre_of(self, row: int, column: int) -> tuple[float, float]:
         """Return the point at the centre of a cell."""
         return (self.origin[0] + (column + 0.5) * self.resolution,

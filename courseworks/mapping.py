@@ -38,6 +38,7 @@ class Laser:
     num_rays: int
     max_range: float
     pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    frequency: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -91,6 +92,16 @@ def seen_along(grid: Grid, poses: ArrayLike, laser: Laser) -> Sight:
                   laser.min_angle, increment, laser.num_rays, laser.max_range / grid.resolution,
                   free_counts, wall_counts)
     return Sight(free_counts > 0, wall_counts > 0)
+
+
+def scan_every(laser: Laser, step: float) -> int:
+    """Return how many steps of step seconds apart one scan of laser takes (each, at no rate)."""
+    return max(1, round(1.0 / (laser.frequency * step))) if laser.frequency > 0 else 1
+
+
+def seen_along_run(grid: Grid, poses: ArrayLike, step: float, laser: Laser) -> Sight:
+    """Return what laser could have seen along a pose per step, scanning at its rate."""
+    return seen_along(grid, np.asarray(poses, dtype=float)[::scan_every(laser, step)], laser)
 
 
 def judge_map(sight: Sight, submitted: ArrayLike,

@@ -10,7 +10,7 @@ import math
 
 from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
-from courseworks.mapping import judge_map, seen_along
+from courseworks.mapping import judge_map, seen_along_run
 from courseworks.names import EXPLORATION, MAPPING, PLANNING, SUBMITTED_MAP_TOPIC
 from courseworks.planning import clearance_along, judge_planning, plan_legs
 from courseworks.tasks import task_thresholds
@@ -43,8 +43,7 @@ def task_checks(course: Course, run: Run,
 def _seen(course, run, grid):
     """Return what the course's robot's first laser could have seen along the true path."""
     laser = load_robot(robot_file(course.robot_file)).lasers[0]
-    every = max(1, round(1.0 / (laser.frequency * run.step))) if laser.frequency > 0 else 1
-    return seen_along(grid, run.poses[::every], laser)
+    return seen_along_run(grid, run.poses, run.step, laser)
 
 
 def exploration_check(course: Course, run: Run) -> Check:
