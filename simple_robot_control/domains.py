@@ -12,6 +12,7 @@ import fcntl
 import os
 from pathlib import Path
 import random
+import stat
 import tempfile
 
 # Linux gives each domain a range of ports; beyond domain 101 they may meet the ephemeral ports
@@ -49,9 +50,8 @@ def claim_domain(avoid: tuple[int, ...] = ()) -> DomainClaim:
     except OSError:
         pass
     for domain in candidates[start:] + candidates[:start]:
-        try:
-            descriptor = os.open(LOCK_FOLDER / f'{domain}.lock', os.O_RDWR | os.O_CREAT, 0o666)
-        except OSError:
+        descriptor = _lock_file(LOCK_FOLDER / f'{domain}.lock')
+        if descriptor is None:
             continue
         try:
             fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -61,6 +61,30 @@ def claim_domain(avoid: tuple[int, ...] = ()) -> DomainClaim:
         return DomainClaim(domain, descriptor)
     raise NoDomainLeft(f'all {len(candidates)} ROS domains of {DOMAINS.start} to '
                        f'{DOMAINS.stop - 1} are in use by other runs ({LOCK_FOLDER})')
+
+
+def _lock_file(path):
+    """
+    Open a domain's lock file for writing, made usable by every user; None if it cannot be.
+
+    Whatever stands there instead of a plain file (a folder, a link, a FIFO another user put
+    there) makes its domain skipped, never an error. A file made here is opened to every user
+    whatever the umask: one made 0644 by root would keep every other user out of its domain.
+    """
+    try:
+        descriptor = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK
+                             | os.O_CLOEXEC, 0o666)
+    except OSError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+            raise OSError('not a file')
+        if os.fstat(descriptor).st_uid == os.geteuid():
+            os.fchmod(descriptor, 0o666)
+    except OSError:
+        os.close(descriptor)
+        return None
+    return descriptor
 
 
 def _own_domain():

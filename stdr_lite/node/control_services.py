@@ -49,10 +49,10 @@ CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of robots (unicycle
 STATE = SimulationState
 
 
-def world_resource(path):
-    """Describe a map_server map file as a standard world."""
+def world_resource(path, named_only=False):
+    """Describe a map_server map file as a standard world; by its name alone if named_only."""
     name = os.path.splitext(os.path.basename(path))[0]
-    return WorldResource(name=name, world_resource=Resource(uri=path),
+    return WorldResource(name=name, world_resource=Resource(uri='' if named_only else path),
                          description=f'map_server map {name}')
 
 
@@ -60,16 +60,22 @@ class SimulationControl:
     """Serves time and world control on a StdrLite node."""
 
     def __init__(self, node, served: Served, world_changing: bool = True):
-        """Serve the queries, and unless world_changing is False what changes the world."""
+        """
+        Serve the queries, and unless world_changing is False what changes the world.
+
+        A simulator that changes no world (a graded one) names its world and no file: the
+        path would lead a submission to the hidden courses; nor does it list files.
+        """
         self._node, self._served = node, served
         self._world = served.simulation.occupancy_map.source
+        self._named_only = not world_changing
         self._stepping = False
         services = [(GetSimulatorFeatures, 'get_simulator_features', self._features),
                     (GetSimulationState, 'get_simulation_state', self._get_state),
-                    (GetAvailableWorlds, 'get_available_worlds', self._available_worlds),
                     (GetCurrentWorld, 'get_current_world', self._current_world)]
         if world_changing:
-            services += [(SetSimulationState, 'set_simulation_state', self._set_state),
+            services += [(GetAvailableWorlds, 'get_available_worlds', self._available_worlds),
+                         (SetSimulationState, 'set_simulation_state', self._set_state),
                          (StepSimulation, 'step_simulation', self._step),
                          (ResetSimulation, 'reset_simulation', self._reset),
                          (LoadWorld, 'load_world', self._load_world),
@@ -257,7 +263,7 @@ class SimulationControl:
     def _current_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:
             raise Refusal(response.NO_WORLD_LOADED, 'no world is loaded')
-        response.world = world_resource(self._world)
+        response.world = world_resource(self._world, self._named_only)
 
     def _unload_world(self, request, response):
         if self._state == STATE.STATE_NO_WORLD:

@@ -4,8 +4,11 @@ import socket
 import subprocess
 
 from processes import start
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
 from rclpy.node import Node
 from ros_helpers import spin_until
+from simulation_interfaces.srv import GetCurrentWorld
 
 WORLD_CHANGING = ('set_simulation_state', 'step_simulation', 'reset_simulation', 'load_world',
                   'unload_world', 'spawn_entity', 'spawn_entities', 'delete_entity',
@@ -32,6 +35,15 @@ def test_a_supervised_simulator_plays_on_its_word_serves_no_change_and_ends_with
         assert not [name for name in services() if name.rsplit('/', 1)[-1] in WORLD_CHANGING
                     or 'simulate_steps' in name], services()
         assert not node.get_subscriptions_info_by_topic('/robot0/initialpose')
+        assert '/stdr_lite/get_available_worlds' not in services()
+        world = call(executor, node, GetCurrentWorld, '/stdr_lite/get_current_world',
+                     GetCurrentWorld.Request()).world
+        assert (world.name, world.world_resource.uri) == ('lab_room', '')
+        sim_time = Parameter(name='use_sim_time', value=ParameterValue(
+            type=ParameterType.PARAMETER_BOOL, bool_value=True))
+        refused = call(executor, node, SetParameters, '/stdr_lite/set_parameters',
+                       SetParameters.Request(parameters=[sim_time])).results[0]
+        assert not refused.successful and 'supervised' in refused.reason
         ours.sendall(b'play\n')
         first = stream.readline().split()
         second = stream.readline().split()
@@ -47,3 +59,10 @@ def test_a_supervised_simulator_plays_on_its_word_serves_no_change_and_ends_with
             simulator.kill()
             simulator.wait()
             raise
+
+
+def call(executor, node, kind, name, request):
+    client = node.create_client(kind, name)
+    future = client.call_async(request)
+    spin_until(executor, future.done, timeout=10.0, what=f'the answer of {name}')
+    return future.result()

@@ -1,5 +1,6 @@
 """Domains claimed by one process are never handed to another while it holds them."""
 
+import os
 import subprocess
 import sys
 
@@ -59,3 +60,22 @@ def test_a_child_process_does_not_keep_the_domain(three_domains):
     finally:
         child.kill()
         child.wait()
+
+
+def test_whatever_stands_in_a_lock_files_place_is_skipped_and_new_files_are_everyones(
+        three_domains):
+    """A folder, a FIFO or a link planted as a lock file costs its domain, nothing more."""
+    domains.LOCK_FOLDER.mkdir()
+    (domains.LOCK_FOLDER / '7.lock').mkdir()
+    os.mkfifo(domains.LOCK_FOLDER / '8.lock')
+    old_mask = os.umask(0o022)
+    try:
+        claim = claim_domain()
+    finally:
+        os.umask(old_mask)
+    assert claim.domain_id == 9
+    assert (domains.LOCK_FOLDER / '9.lock').stat().st_mode & 0o777 == 0o666
+    (domains.LOCK_FOLDER / '7.lock').rmdir()
+    (domains.LOCK_FOLDER / '7.lock').symlink_to(domains.LOCK_FOLDER / '9.lock')
+    with pytest.raises(NoDomainLeft):
+        claim_domain()
