@@ -17,9 +17,12 @@ from pathlib import Path
 
 from courseworks.names import HIDES_MAP
 from courseworks.tasks import check_task, TaskError, thresholds_for
-from simple_robot_control.input_files import read_yaml
+from simple_robot_control.input_files import is_regular_file, read_yaml
+from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import bundled_files
 from simple_robot_control.validation import Bounds, describe
+from stdr_lite.core.fields import RobotFileError
+from stdr_lite.core.robot_description import load_robot
 from waypoint_lab.course import Course
 from waypoint_lab.waypoints import load_waypoints, WaypointFileError
 
@@ -83,8 +86,9 @@ def read_course(path: str | os.PathLike, defaults: Course | None = None) -> Cour
     # Absolute, as every path a course holds: the submission runs in a folder of its own.
     course = replace(base, name=path.stem, waypoint_file=path.resolve(), waypoints=waypoints,
                      settings_file=None)
+    # A course's YAML is read whatever it is: a FIFO or a folder there is refused, not skipped.
     settings = next((path.with_suffix(suffix) for suffix in YAML_SUFFIXES
-                     if path.with_suffix(suffix).is_file()), None)
+                     if os.path.lexists(path.with_suffix(suffix))), None)
     return course if settings is None else _with_settings(course, settings)
 
 
@@ -106,12 +110,22 @@ def _start(source, value):
 
 
 def _world_file(source, key, value, folder):
-    """Find a map or robot file: beside the YAML, or a bundled one by name (lab_room)."""
+    """
+    Find a map or robot file: beside the YAML, or a bundled one by name (lab_room); checked whole.
+
+    A file of the course's stays in the course's folder (its map's image too): a path that
+    leads out of it (`..`, an absolute path, a link), or names no regular file (a folder, a
+    FIFO, a device), is refused here, as is a file the simulator would refuse, before
+    anything runs.
+    """
     if not isinstance(value, str) or not value:
         raise CourseError(f'{source}: {key} must be a file name, got {describe(value)}')
+    folder = folder.resolve()
     beside = folder / value
-    if beside.is_file():
-        return str(beside.resolve())
+    if os.path.lexists(beside) or os.path.isabs(value) or '..' in Path(value).parts:
+        path = _inside(source, key, value, beside, folder)
+        _check_world_file(source, key, path, folder)
+        return str(path)
     bundled = bundled_files('maps' if key == 'map' else 'robots')
     name = value if value in bundled else Path(value).stem
     if name in bundled and not Path(value).parent.name:
@@ -119,6 +133,33 @@ def _world_file(source, key, value, folder):
     known = ', '.join(sorted(bundled)) or 'none installed'
     raise CourseError(f'{source}: {key} {value!r} is neither a file beside it nor a bundled '
                       f'one ({known})')
+
+
+def _inside(source, key, value, path, folder):
+    """Return path resolved, if it is a regular file inside folder; CourseError otherwise."""
+    resolved = Path(path).resolve()
+    if folder not in resolved.parents:
+        raise CourseError(f"{source}: {key} {value!r} leads outside the course's folder "
+                          f'({resolved}): a course names only files beside it, or bundled ones')
+    if not is_regular_file(resolved):
+        raise CourseError(f'{source}: {key} {value!r} is no regular file (a folder, a FIFO, a '
+                          'device or nothing)')
+    return resolved
+
+
+def _check_world_file(source, key, path, folder):
+    """Load the file as the simulator will; CourseError saying why it cannot be."""
+    try:
+        if key == 'robot':
+            load_robot(path)
+            return
+        description = read_yaml(path, 'map file', MapError)
+        image = description.get('image') if isinstance(description, dict) else None
+        if isinstance(image, str):
+            _inside(path, 'image', image, Path(path).parent / image, folder)
+        load_map(path)
+    except (MapError, RobotFileError) as error:
+        raise CourseError(f'{source}: {key}: {error}') from None
 
 
 def _with_settings(course, path):

@@ -1,7 +1,9 @@
 """Courses to grade on: waypoint files, their YAML beside them, and one line for each mistake."""
 
 import math
+import os
 from pathlib import Path
+import shutil
 
 from lab_grader.courses import CourseError, find_courses, read_course
 import pytest
@@ -32,8 +34,8 @@ def test_a_folder_gives_its_waypoint_files_with_the_labs_defaults(tmp_path):
 
 def test_a_courses_yaml_sets_its_world_limits_and_points(tmp_path):
     bundled = Path(shared_file(*BUNDLED_MAP))
-    (tmp_path / 'room.yaml').write_text(bundled.read_text().replace(
-        'lab_room.pgm', str(bundled.with_suffix('.pgm'))))
+    (tmp_path / 'room.yaml').write_text(bundled.read_text().replace('lab_room.pgm', 'room.pgm'))
+    shutil.copyfile(bundled.with_suffix('.pgm'), tmp_path / 'room.pgm')
     path = write(tmp_path, 'hidden', '5 5 0', 'start: [2.0, 3.0, 90]\nmap: room.yaml\n'
                  'robot: turtlebot3_burger\ntime_limit: 30\npoints: 2.5\n'
                  'distance_tolerance: 0.05\nangle_tolerance_deg: 2\nmax_time: 20\n'
@@ -84,3 +86,50 @@ def test_bad_courses_are_refused_whole(tmp_path):
     write(two, 'same')
     with pytest.raises(CourseError, match='two courses named same'):
         find_courses([one, two])
+
+
+def hostile_course(folder, kind):
+    """Write a course whose YAML names a file a course must not: outside, or no regular file."""
+    bundled = Path(shared_file(*BUNDLED_MAP))
+    settings = {'absolute': 'map: /etc/passwd\n', 'climbing': 'map: ../../etc/passwd\n',
+                'robot': 'robot: /etc/passwd\n', 'folder': 'map: maps\n',
+                'zero image': 'map: room.yaml\n', 'fifo image': 'map: room.yaml\n',
+                'link out': 'map: room.yaml\n', 'bad map': 'map: room.yaml\n'}[kind]
+    path = write(folder, 'c', settings=settings)
+    (folder / 'maps').mkdir()
+    image = {'zero image': '/dev/zero', 'fifo image': 'fifo.pgm', 'bad map': 'room.pgm'}.get(
+        kind, 'room.pgm')
+    if kind != 'link out':
+        (folder / 'room.yaml').write_text(bundled.read_text().replace('lab_room.pgm', image))
+    else:
+        (folder / 'room.yaml').symlink_to(bundled)
+    if kind == 'fifo image':
+        os.mkfifo(folder / 'fifo.pgm')
+    if kind == 'bad map':
+        (folder / 'room.pgm').write_bytes(b'P5 not an image')
+    return path
+
+
+@pytest.mark.parametrize('kind, complaint', [
+    ('absolute', "map '/etc/passwd' leads outside the course's folder (/etc/passwd)"),
+    ('climbing', "map '../../etc/passwd' leads outside the course's folder"),
+    ('robot', "robot '/etc/passwd' leads outside the course's folder"),
+    ('folder', "map 'maps' is no regular file (a folder, a FIFO, a device or nothing)"),
+    ('zero image', "image '/dev/zero' leads outside the course's folder"),
+    ('fifo image', "image 'fifo.pgm' is no regular file"),
+    ('link out', "map 'room.yaml' leads outside the course's folder"),
+    ('bad map', 'c.yaml: map: '),
+])
+def test_a_course_names_only_regular_files_beside_it_that_load(tmp_path, kind, complaint):
+    """Checked whole before anything runs: one line naming the file and the key, no hang."""
+    with pytest.raises(CourseError) as raised:
+        read_course(hostile_course(tmp_path, kind))
+    assert complaint in str(raised.value) and '\n' not in str(raised.value), str(raised.value)
+    assert str(raised.value).startswith(str(tmp_path / ''))  # c.yaml, or the map's for its image
+
+
+def test_a_fifo_in_place_of_a_courses_yaml_is_refused_not_skipped(tmp_path):
+    path = write(tmp_path, 'c')
+    os.mkfifo(tmp_path / 'c.yaml')
+    with pytest.raises(CourseError, match='c.yaml: course settings is not a regular file'):
+        read_course(path)
