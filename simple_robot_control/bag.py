@@ -143,11 +143,14 @@ class BagWriter:
 
     A write the file system refuses (a full disk) raises BagError and ends the bag there: what
     reached the disk before stays readable up to its last complete chunk, and close() then
-    only lets the file go.
+    only lets the file go. With max_bytes, messages that would take the file beyond it are
+    not written (truncated says so), and the bag is finished as usual.
     """
 
-    def __init__(self, path: str | os.PathLike):
+    def __init__(self, path: str | os.PathLike, max_bytes: int | None = None):
         self.path = Path(path)
+        self.max_bytes = max_bytes
+        self.truncated = ''
         try:
             self._stream: BinaryIO = open(self.path, 'wb')
         except OSError as error:
@@ -205,6 +208,13 @@ class BagWriter:
     def write(self, channel: int, log_time_ns: int, data: bytes,
               publish_time_ns: int | None = None) -> None:
         """Write one serialised message of a channel: received at log_time_ns, sent at publish."""
+        if self.truncated:
+            return
+        if self.max_bytes is not None and (
+                self._guarded(self._stream.tell) + len(data) > self.max_bytes):
+            self.truncated = (f'the bag reached its limit of {self.max_bytes:,} bytes: what '
+                              'came after was not recorded')
+            return
         self._guarded(lambda: self._writer.add_message(
             channel_id=channel, log_time=log_time_ns, data=data,
             publish_time=log_time_ns if publish_time_ns is None else publish_time_ns))

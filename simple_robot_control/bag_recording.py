@@ -15,6 +15,7 @@ A bag the disk stops taking (full) ends the recording with one line, never the n
 
 from collections import Counter
 from fnmatch import fnmatchcase
+import hashlib
 import importlib
 import inspect
 import time
@@ -81,12 +82,12 @@ class BagRecording:
     """
 
     def __init__(self, node, path, patterns, inputs=(), send_times=False,
-                 course=''):
+                 course='', max_bytes=None):
         problem = output_problem(path, inputs=inputs)
         if problem is not None:
             raise ConfigError(f'bag {path}: {problem}')
         try:
-            self.bag = BagWriter(path)
+            self.bag = BagWriter(path, max_bytes)
             if course:
                 self.bag.add_metadata(RUN_METADATA, {'course': course})
         except BagError as error:
@@ -207,9 +208,11 @@ class BagRecording:
                 self.highest_sequence[topic] = max(self.highest_sequence.get(topic, 0),
                                                    info.get('publication_sequence_number', 0))
             if seen is not None:
-                if (sent, data) in seen:
+                # A digest, not the bytes: every message of a topic is remembered.
+                key = (sent, hashlib.blake2b(data, digest_size=16).digest())
+                if key in seen:
                     return
-                seen.add((sent, data))
+                seen.add(key)
             if not self._closed and (keep is None or keep(data)):
                 try:
                     self.bag.write(channel, clock.now().nanoseconds, data, sent)

@@ -173,6 +173,22 @@ def test_a_full_disk_ends_the_bag_readable_up_to_its_last_complete_chunk(tmp_pat
     assert stamps == [1_000_000_000 + index for index in range(len(stamps))]
 
 
+def test_a_bag_at_its_size_limit_records_no_more_and_is_finished_whole(tmp_path):
+    path = tmp_path / 'capped.mcap'
+    bag = BagWriter(path, max_bytes=3 * CHUNK_SIZE)
+    channel = bag.add_topic('/robot_status', 'std_msgs/msg/String', [LATCHED])
+    for index in range(100_000):
+        bag.write(channel, 1_000_000_000 + index, STATUS)
+    bag.close()
+    assert bag.truncated == ('the bag reached its limit of 786,432 bytes: what came after was '
+                             'not recorded')
+    messages = BagMessages(path, {'/robot_status'})
+    stamps = [message.log_time_ns for message in messages]
+    assert not messages.cut_short and 0 < len(stamps) < 100_000
+    assert stamps == [1_000_000_000 + index for index in range(len(stamps))]
+    assert path.stat().st_size <= 4 * CHUNK_SIZE
+
+
 def test_a_dependency_outside_the_type_store_comes_from_its_installed_msg():
     text = message_definition('simulation_interfaces/msg/EntityState')
     assert text.startswith('std_msgs/Header header\n')
