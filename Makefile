@@ -48,6 +48,7 @@ bench: install $(VENV)/.test-dependencies
 	$(PYTHON) -m bench.live_view
 	$(PYTHON) -m bench.learning
 	$(PYTHON) -m bench.courseworks
+	$(PYTHON) -m bench.grading
 
 # A policy learned end to end: PPO (skrl on JAX, on the CPU) trains on the lab's task for
 # TRAIN_MINUTES in a venv of its own beside the interface builds (JAX and skrl never enter

@@ -1,20 +1,22 @@
 """
 One course run in isolation: stdr_lite, a recorder and the submission in a ROS domain of their own.
 
-The grader first checks that its domain is empty (no node, no topic of anyone's). The simulator
+With namespaces (sandbox.py) the domain is in a network namespace of the course's own, which
+nothing else can reach; otherwise the grader first claims a domain and checks that it is empty
+(no node, no topic of anyone's). The simulator
 starts supervised (stdr_lite's supervisor_fd): paused, serving nothing that changes the world,
 its true state sent to the grader over a socket no other process holds. The recorder (this
 process, in a Context of the course's domain) records the run's bag and keeps every robot_status
 message with its send time; then the submission starts, and once its status publisher is
 matched the simulation plays. While the run goes, whoever else publishes on the simulator's
-topics is named: the submission's processes make it a foul (the course fails), another
-program's an error. The run ends a little after FINISHED (or ABORTED), after the submission
-ends, at the time limit, on a foul, or when grading is interrupted; everything the run started
-is then stopped and the bag closed. The judge's evidence is the socket's truth and the statuses
-kept here, never a file the submission could reach.
+topics is named (publishers.py): the submission's doing is a foul (the course fails), and
+another program in the domain an error. The run ends a little after FINISHED (or ABORTED),
+after the submission ends, at the time limit, on a foul, or when grading is interrupted;
+everything the run started is then stopped and the bag closed. The judge's evidence is the
+socket's truth and the statuses kept here, never a file the submission could reach.
 """
 
-from dataclasses import dataclass
+from contextlib import nullcontext
 import os
 from pathlib import Path
 import shutil
@@ -23,33 +25,24 @@ import threading
 import time
 import uuid
 
-from lab_grader.courses import world_parameters
 from lab_grader.grading import RunEvidence
-from lab_grader.publishers import find_intruders
+from lab_grader.jail import SANDBOX_HOME
+from lab_grader.publishers import find_intruders, socket_owners, strangers
 from lab_grader.recorder import GradingRecorder
+from lab_grader.run_environment import (course_environment, PLACEHOLDER, simulator_command,
+                                        submission_environment)
+from lab_grader.sandbox import NAMESPACES, network_of_its_own
 from lab_grader.simulator_link import SimulatorLink
 from lab_grader.submission_process import Submission
 from lab_grader.supervision import Supervised
 from lab_grader.verdicts import ProcessOutcome
-import psutil
 import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
-from simple_robot_control.domains import claim_domain
-from simple_robot_control.share import installed_executable, shared_file
-from waypoint_lab.rules import STATUS_TOPIC
-import yaml
+from simple_robot_control.domains import claim_domain, NoDomainLeft
+from simple_robot_control.validation import ConfigError
 
-PLACEHOLDER = '{waypoints}'
-# What the submission's environment keeps of the grader's: what finds programs, libraries and
-# ROS, the language, and the run's ROS settings (course_environment).
-SUBMISSION_VARIABLES = frozenset((
-    'PATH', 'PYTHONPATH', 'LD_LIBRARY_PATH', 'VIRTUAL_ENV', 'AMENT_PREFIX_PATH',
-    'CMAKE_PREFIX_PATH', 'COLCON_PREFIX_PATH', 'PKG_CONFIG_PATH', 'ROS_DISTRO', 'ROS_VERSION',
-    'ROS_PYTHON_VERSION', 'ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE', 'ROS_STATIC_PEERS',
-    'RMW_IMPLEMENTATION', 'FASTRTPS_DEFAULT_PROFILES_FILE', 'PYTHONUNBUFFERED', 'LANG',
-    'LANGUAGE', 'TZ', 'TERM', 'USER', 'LOGNAME', 'SHELL'))
 SIMULATOR_START = 60.0
 # How long the submission has to make its robot_status publisher before the simulation plays,
 # and how long after the recorder has matched it: the publisher's side of the match may come a
@@ -68,21 +61,12 @@ SPIN_PERIOD = 0.05
 # A domain is taken only when, after this long listening, it shows no node and no topic.
 EMPTY_DOMAIN_WAIT = 0.5
 DOMAIN_TRIES = 8
-# How often the graph is read for intruders (wall seconds).
+# How often the graph is read for intruders, and the domain's sockets and the submission's
+# working folder looked at (wall seconds).
 WATCH_PERIOD = 0.1
-
-
-@dataclass(frozen=True)
-class RunSettings:
-    """How every course of a grading is run."""
-
-    command: tuple[str, ...]
-    cwd: str = '.'
-    lockstep: bool = False
-    real_time_factor: float = 1.0
-    robot_name: str = 'robot0'
-    memory_mb: int = 0
-    hidden: tuple[str, ...] = ()
+SOCKETS_PERIOD = 1.0
+# The one domain of a course in a network namespace of its own: nothing else is there.
+SEALED_DOMAIN = 1
 
 
 class GradingError(Exception):
@@ -93,78 +77,41 @@ class Foul(Exception):
     """The submission did what ends a run at once and fails the course (the message says what)."""
 
 
-def course_environment(domain_id: int) -> dict:
-    """Return the environment of a run's processes: loopback discovery in its own domain."""
-    environment = dict(os.environ, ROS_DOMAIN_ID=str(domain_id),
-                       ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST', ROS_STATIC_PEERS='',
-                       PYTHONUNBUFFERED='1')
-    environment.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE',
-                           shared_file('config', 'fastdds_quick_discovery.xml'))
-    return environment
-
-
-def submission_environment(course_environment: dict, working: Path,
-                           hidden: tuple[str, ...]) -> dict:
-    """
-    Return the submission's environment: what running a program takes, and nothing of the grader.
-
-    The variables of SUBMISSION_VARIABLES (and LC_*) are kept, unless their value names a
-    hidden folder (the courses', the reports'); home, temporary files and ROS's logs are the
-    submission's working folder.
-    """
-    kept = {name: value for name, value in course_environment.items()
-            if (name in SUBMISSION_VARIABLES or name.startswith('LC_'))
-            and not any(folder in value for folder in hidden)}
-    folder = str(working)
-    return dict(kept, HOME=folder, TMPDIR=folder, ROS_HOME=folder,
-                ROS_LOG_DIR=str(working / 'log'))
-
-
-def simulator_command(course, settings, link_descriptor, folder) -> list[str]:
-    """
-    Return the stdr_lite command line of a course: supervised, at the course's start.
-
-    The parameters go in a file of the grader's private folder, so that the command line
-    (which any process may read) names no course file.
-    """
-    parameters = {'lockstep': bool(settings.lockstep),
-                  'real_time_factor': float(settings.real_time_factor),
-                  'robot_name': settings.robot_name,
-                  'supervisor_fd': link_descriptor, **world_parameters(course)}
-    path = Path(folder) / 'simulator.yaml'
-    path.write_text(yaml.safe_dump({'stdr_lite': {'ros__parameters': parameters}}))
-    return [installed_executable('stdr_lite'), '--ros-args', '--params-file', str(path)]
-
-
 def run_course(course, settings, folder, stopping: threading.Event) -> RunEvidence:
     """Run one course for the submission in folder (made if need be) and return its result."""
     folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)
-    run = _Run(course, stopping, folder)
-    waypoints = run.working / 'waypoints.txt'
-    shutil.copyfile(course.waypoint_file, waypoints)
-    command = [part.replace(PLACEHOLDER, str(waypoints)) for part in settings.command]
-    try:
-        return run.go(settings, command)
-    finally:
-        run.close()
+    sandbox = settings.sandbox
+    with network_of_its_own() if sandbox.mode == NAMESPACES else nullcontext():
+        run = _Run(course, stopping, folder, sandbox)
+        try:
+            return run.go(settings)
+        finally:
+            run.close()
 
 
 class _Run:
     """The course's run, step by step, in a Context of the course's own domain."""
 
-    def __init__(self, course, stopping, folder):
+    def __init__(self, course, stopping, folder, sandbox):
         self.course, self.stopping, self.folder = course, stopping, folder
+        self.sandbox = sandbox
         self.bag = folder / 'run.mcap'
         # The grader's own files of the run, and the submission's working folder: its home,
-        # with its copy of the waypoint file; both go at the end.
+        # with its copy of the waypoint file; both go at the end. Sealed, the submission runs
+        # as a uid of its own (and with namespaces its home is its own /tmp's).
         self.private = Path(tempfile.mkdtemp(prefix='grade_lab-'))
         self.working = Path(tempfile.mkdtemp(prefix='grade_lab-work-'))
+        shutil.copyfile(course.waypoint_file, self.working / 'waypoints.txt')
+        self.uid = sandbox.uids.take() if sandbox.sealed else None
+        self.home = SANDBOX_HOME if sandbox.mode == NAMESPACES else str(self.working)
+        self.simulator_gids = set()
+        self._sockets_at = 0.0
         self.claim = self.context = self.simulator = self.link = None
         self.recorder = self.executor = self.submission = None
         self.fouls, self.strangers = [], []
         # What the recorder leaves once taken down: the statuses, and why the bag failed if so.
-        self.recorder_statuses, self.recorder_failure = [], ''
+        self.recorder_statuses, self.recorder_failure, self.bag_note = [], '', ''
         self.recorder_map = None
         self.submission_pids = set()
         self._last_heard = (time.monotonic(), 0)
@@ -199,9 +146,14 @@ class _Run:
         self._watched_at = time.monotonic()
         recorder = self.recorder
         self.submission_pids |= self.submission.pids()
-        found = find_intruders(recorder.publishers(recorder.watched),
-                               recorder.publishers([f'/{STATUS_TOPIC}']),
-                               self.simulator.pid, self.submission_pids, psutil.pids())
+        outsiders = []
+        if self.sandbox.mode != NAMESPACES and (
+                time.monotonic() - self._sockets_at >= SOCKETS_PERIOD):
+            self._sockets_at = time.monotonic()
+            run_pids = {os.getpid(), self.simulator.pid} | self.submission.pids()
+            outsiders = strangers(socket_owners(self.claim.domain_id), run_pids, self.uid)
+        found = find_intruders(recorder.publishers(recorder.watched), self.simulator_gids,
+                               outsiders)
         self.fouls += [line for line in found.fouls if line not in self.fouls]
         self.strangers += [line for line in found.strangers if line not in self.strangers]
         self._check_flood()
@@ -219,20 +171,30 @@ class _Run:
                               f'{len(self.course.waypoints) + 2}): the run was ended there')
             raise Foul(self.fouls[0])
 
+    def _open_domain(self, domain_id):
+        """Join a domain: the recorder in a Context of it, spun by an executor of its own."""
+        context = Context()
+        rclpy.init(context=context, domain_id=domain_id,
+                   signal_handler_options=SignalHandlerOptions.NO)
+        self.context = context
+        try:
+            self.recorder = GradingRecorder(context, self.bag, self.course_robot, self.course)
+        except ConfigError as error:
+            raise GradingError(f'the run cannot be recorded: {error}') from None
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.recorder)
+
     def _take_empty_domain(self):
         """Claim a domain, and keep it only if nobody is in it; GradingError if none is empty."""
         busy = []
         try:
             for _ in range(DOMAIN_TRIES):
-                claim = claim_domain(avoid=tuple(held.domain_id for held in busy))
-                context = Context()
-                rclpy.init(context=context, domain_id=claim.domain_id,
-                           signal_handler_options=SignalHandlerOptions.NO)
-                self.claim, self.context = claim, context
-                self.recorder = GradingRecorder(context, self.bag, self.course_robot,
-                                                self.course)
-                self.executor = SingleThreadedExecutor(context=context)
-                self.executor.add_node(self.recorder)
+                try:
+                    claim = claim_domain(avoid=tuple(held.domain_id for held in busy))
+                except NoDomainLeft as error:
+                    raise GradingError(str(error)) from None
+                self.claim = claim
+                self._open_domain(claim.domain_id)
                 end = time.monotonic() + EMPTY_DOMAIN_WAIT
                 while time.monotonic() < end:
                     self.executor.spin_once(timeout_sec=SPIN_PERIOD)
@@ -242,7 +204,7 @@ class _Run:
                 print(f'grade_lab: ROS domain {claim.domain_id} is in use by another program '
                       f'(nodes {", ".join(others[:3])}): taking another', flush=True)
                 self._close_recorder()
-                rclpy.try_shutdown(context=context)
+                rclpy.try_shutdown(context=self.context)
                 self.claim = self.context = None
                 busy.append(claim)
         finally:
@@ -251,11 +213,18 @@ class _Run:
         raise GradingError(f'no empty ROS domain: {DOMAIN_TRIES} tried, each in use by another '
                            'program')
 
-    def go(self, settings, command):
+    def go(self, settings):
         self.course_robot = settings.robot_name
+        waypoints = f'{self.home}/waypoints.txt'
+        command = [part.replace(PLACEHOLDER, waypoints) for part in settings.command]
         try:
-            self._take_empty_domain()
-            environment = course_environment(self.claim.domain_id)
+            if self.sandbox.mode == NAMESPACES:
+                self._open_domain(SEALED_DOMAIN)
+                domain_id = SEALED_DOMAIN
+            else:
+                self._take_empty_domain()
+                domain_id = self.claim.domain_id
+            environment = course_environment(domain_id, self.sandbox.sealed)
             marker = uuid.uuid4().hex
             self.link = SimulatorLink(settings.robot_name)
             self.simulator = Supervised(
@@ -269,10 +238,15 @@ class _Run:
                                    f'show within {SIMULATOR_START:g} s')
             # Read by now: the file names the course's world, so it goes before the submission.
             shutil.rmtree(self.private, ignore_errors=True)
+            # The domain held the simulator and the grader alone: these endpoints are its.
+            self.simulator_gids = {publisher.gid for publisher
+                                   in self.recorder.publishers(self.recorder.watched)}
+            jail = None if self.uid is None else self.sandbox.jail(
+                self.uid, settings.cwd, {'waypoints.txt': str(self.working / 'waypoints.txt')})
             self.submission = Submission(
                 command, f'{marker}:submission', self.folder / 'output.txt', cwd=settings.cwd,
-                env=submission_environment(environment, self.working, settings.hidden),
-                memory_mb=settings.memory_mb)
+                env=submission_environment(environment, self.home, settings.hidden),
+                memory_mb=settings.memory_mb, jail=jail)
             if self.spin(lambda: self.recorder.status_publishers or not self.submission.running,
                          STATUS_PUBLISHER_WAIT):
                 self.spin(lambda: False, MATCH_SETTLE)
@@ -300,7 +274,8 @@ class _Run:
         link = self.link
         return RunEvidence(outcome, self.bag, error, link.truth() if link else [],
                            list(self.recorder_statuses), link.limits if link else None,
-                           tuple(self.fouls), self.recorder_map)
+                           tuple(self.fouls), self.recorder_map,
+                           (self.bag_note,) if self.bag_note else ())
 
     def _until_over(self):
         """Spin until the run is over; return whether the time limit ended it."""
@@ -354,6 +329,9 @@ class _Run:
         if self.submission.start_error:
             return ProcessOutcome(start_error=self.submission.start_error)
         seconds = self.submission.seconds
+        if self.submission.disk_full():
+            self.fouls.append(f'filled its working space: the {self.sandbox.disk_mb} MB of /tmp '
+                              '(with /dev/shm and /var/tmp) it may write (grade_lab --disk)')
         ended_by, stop_seconds, leftovers = self.submission.stop()
         return ProcessOutcome(ended_by=ended_by, exit_code=self.submission.exit_code,
                               seconds=seconds, stop_seconds=stop_seconds, timed_out=timed_out,
@@ -366,6 +344,7 @@ class _Run:
             self.recorder.recording.close()
             self.recorder_statuses = list(self.recorder.statuses)
             self.recorder_map = self.recorder.submitted_map()
+            self.bag_note = self.recorder.bag_truncated
             self.recorder_failure = self.recorder.recording.bag.failure \
                 if self.recorder.recording.failed else ''
             self.executor.remove_node(self.recorder)
@@ -390,6 +369,9 @@ class _Run:
             self.claim = None
         shutil.rmtree(self.private, ignore_errors=True)
         shutil.rmtree(self.working, ignore_errors=True)
+        if self.uid is not None:
+            self.sandbox.uids.give_back(self.uid)
+            self.uid = None
 
 
 def _ended_text(code):

@@ -23,13 +23,17 @@ import tempfile
 import threading
 
 from lab_grader.course_guard import CourseGuard, CourseGuardError
-from lab_grader.course_run import PLACEHOLDER, run_course, RunSettings
 from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, course_files, CourseError,
                                 DISTANCE_TOLERANCE_RANGE, find_courses, TIME_LIMIT_RANGE)
 from lab_grader.grading import grade_course, PASS, RunEvidence, SubmissionVerdict
 from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
+from lab_grader.run_environment import (course_environment, PLACEHOLDER, RunSettings,
+                                        submission_environment)
+from lab_grader.sandbox import (CHOICES, choose_mode, describe_mode, DISK_MB, NAMESPACES,
+                                needed_paths, SandboxError, SandboxPolicy)
+from lab_grader.submission_process import sandbox_problem
 from lab_grader.supervision import become_subreaper
 from lab_grader.verdicts import ProcessOutcome
 from simple_robot_control.command_line import OneLineParser
@@ -40,7 +44,10 @@ from waypoint_lab.course import Course
 from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
+# The middleware the evidence rules were built and tested on (Jazzy's default, the wheels' only).
+GRADED_RMW = 'rmw_fastrtps_cpp'
 MEMORY = Bounds(0, 1 << 20)
+DISK = Bounds(1, 1 << 16)
 MEMORY_MB = 4096
 # grade_lab runs again with its arguments in an unnamed file of this descriptor, so that its
 # command line, which any process may read, names no course and no report folder.
@@ -85,6 +92,13 @@ def build_parser():
                         help='goal set heading tolerance t [degrees] (default '
                         f"{math.degrees(ANGLE_TOLERANCE):g}, the lab's)")
     parser.add_argument('--robot-name', default='robot0', help='the robot (default robot0)')
+    parser.add_argument('--sandbox', choices=CHOICES, default='auto', help='how each '
+                        'submission is sealed off (default auto: namespaces where grade_lab '
+                        'is root and the kernel allows them, a uid and namespaces of its own '
+                        "each; else none: grade_lab's own user, said at the start)")
+    parser.add_argument('--disk', type=int, default=DISK_MB, metavar='MB', help='what a '
+                        f'sandboxed submission may write, in MB (default {DISK_MB}; '
+                        f'{DISK.text()})')
     parser.add_argument('--memory', type=int, default=MEMORY_MB, metavar='MB',
                         help='writable memory each process of a submission may take, in MB '
                         f'(default {MEMORY_MB}; 0: no limit; {MEMORY.text()}); beyond it its '
@@ -108,6 +122,7 @@ def parse(argv):
         JOBS.problem('--jobs', options.jobs),
         REAL_TIME_FACTOR.problem('--real-time-factor', options.real_time_factor),
         MEMORY.problem('--memory', options.memory),
+        DISK.problem('--disk', options.disk),
         options.real_time_factor == 0.0 and not options.lockstep
         and '--real-time-factor 0 needs --lockstep (the simulator would outrun the controller)',
         TIME_LIMIT_RANGE.problem('--time-limit', options.time_limit),
@@ -154,10 +169,11 @@ def submissions_of(options):
 class Grading:
     """Runs every course of every submission, --jobs at a time, until done or interrupted."""
 
-    def __init__(self, options, command, courses, submissions, folder, guard):
+    def __init__(self, options, command, courses, submissions, folder, guard, sandbox):
         self.options, self.command = options, command
         self.courses, self.submissions, self.folder = courses, submissions, folder
         self.guard, self._guarding = guard, threading.Lock()
+        self.sandbox = sandbox
         self.stopping = threading.Event()
         self.hidden = tuple(str(Path(path).resolve()) for path in options.courses) + (
             (str(folder),) if options.report else ())
@@ -180,13 +196,19 @@ class Grading:
     def _grade(self, name, cwd, course):
         settings = RunSettings(tuple(self.command), str(cwd), self.options.lockstep,
                                self.options.real_time_factor, self.options.robot_name,
-                               self.options.memory, self.hidden)
+                               self.options.memory, self.hidden, self.sandbox)
         folder = self.folder / (name if len(self.submissions) > 1 else '') / course.name
         if self.stopping.is_set():
             return grade_course(course, RunEvidence(ProcessOutcome(start_error='not run'),
                                                     folder / 'run.mcap',
                                                     'grading was interrupted'))
-        evidence = run_course(course, settings, folder, self.stopping)
+        # Here: rclpy refuses at import an RMW it was not built for, before main() could say so.
+        from lab_grader.course_run import run_course
+        try:
+            evidence = run_course(course, settings, folder, self.stopping)
+        except OSError as error:
+            evidence = RunEvidence(ProcessOutcome(start_error='not run'), folder / 'run.mcap',
+                                   f'the report folder refused the run: {error.strerror}')
         with self._guarding:
             evidence.fouls += tuple(self.guard.check())
         verdict = grade_course(course, evidence, self.options.robot_name)
@@ -195,16 +217,39 @@ class Grading:
         return verdict
 
 
-def write_reports(options, command, submissions, folder):
-    """Write report.md and junit.xml, and each submission's Gradescope and Classroom files."""
+def write_reports(options, command, submissions, folder) -> list[str]:
+    """
+    Write report.md and junit.xml, and each submission's Gradescope and Classroom files.
+
+    Each is written whole or not at all (a full disk leaves no half file where a reader
+    looks); return a line for each that could not be.
+    """
     mode = (f'{"lockstep" if options.lockstep else "free-running"} at real-time factor '
             f'{compact(options.real_time_factor)}, {options.jobs} at a time')
-    (folder / 'report.md').write_text(markdown_report(submissions, command, mode, folder))
-    (folder / 'junit.xml').write_bytes(junit_xml(submissions))
+    reports = [(folder / 'report.md', markdown_report(submissions, command, mode, folder)),
+               (folder / 'junit.xml', junit_xml(submissions))]
     for submission in submissions:
         place = folder / submission.name if len(submissions) > 1 else folder
-        (place / 'results.json').write_text(gradescope_results(submission))
-        (place / 'classroom.json').write_text(classroom_result(submission, command))
+        reports += [(place / 'results.json', gradescope_results(submission)),
+                    (place / 'classroom.json', classroom_result(submission, command))]
+    problems = []
+    for path, content in reports:
+        problem = _write_whole(path, content.encode() if isinstance(content, str) else content)
+        if problem:
+            problems.append(problem)
+    return problems
+
+
+def _write_whole(path, data):
+    """Write path by a file beside it renamed over it; say why not, or return ''."""
+    partial = path.with_name(f'.{path.name}.partial')
+    try:
+        partial.write_bytes(data)
+        partial.replace(path)
+        return ''
+    except OSError as error:
+        partial.unlink(missing_ok=True)
+        return f'{path}: not written: {error.strerror}'
 
 
 def hide_arguments() -> list[str]:
@@ -239,9 +284,56 @@ def hide_arguments() -> list[str]:
     return arguments
 
 
+def sandbox_policy(options, courses, folder, submissions) -> SandboxPolicy:
+    """
+    Return how the submissions are sealed off, checked: SandboxError says why it cannot be.
+
+    Hidden from them: the courses' folders (and those of their maps and robots, bundled ones
+    aside) and the report folder. Sealed, their uid must run this package's Python (probed
+    once, in the first submission's folder).
+    """
+    mode, why = choose_mode(options.sandbox)
+    prefix = os.path.realpath(sys.prefix)
+    hidden = {str(Path(path).resolve()) for path in options.courses if Path(path).is_dir()}
+    hidden |= {str(Path(path).resolve().parent) for path in course_files(courses)
+               if not str(Path(path).resolve()).startswith(prefix + '/')}
+    if folder is not None:
+        hidden.add(str(folder))
+        if mode == NAMESPACES:
+            folder.chmod(0o700)
+    if mode == NAMESPACES:
+        # This process makes participants only in its courses' namespaces (course_run.py).
+        os.environ.update(course_environment(0, sealed=True))
+        del os.environ['ROS_DOMAIN_ID']
+    sandbox = SandboxPolicy(mode, tuple(sorted(hidden)), needed_paths(os.environ), options.disk,
+                            why=why)
+    for _, cwd in submissions:
+        problem = sandbox.problem(str(cwd))
+        if problem:
+            raise SandboxError(problem)
+    if sandbox.sealed:
+        uid = sandbox.uids.take()
+        try:
+            with tempfile.TemporaryDirectory(prefix='grade_lab-probe-') as scratch:
+                environment = submission_environment(course_environment(0, True), scratch, ())
+                problem = sandbox_problem(sandbox.jail(uid, str(submissions[0][1]), {}),
+                                          environment, Path(scratch) / 'output.txt')
+        finally:
+            sandbox.uids.give_back(uid)
+        if problem:
+            raise SandboxError(f'--sandbox {mode}: {problem}')
+    return sandbox
+
+
 def main(argv=None):
     argv = hide_arguments() if argv is None else list(argv)
     options, command = parse(argv)
+    rmw = os.environ.get('RMW_IMPLEMENTATION', '') or GRADED_RMW
+    if rmw != GRADED_RMW:
+        print(f'grade_lab: error: RMW_IMPLEMENTATION={rmw}: grade_lab grades on {GRADED_RMW} '
+              'alone (who publishes is told by its sockets and endpoints); unset it',
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     os.environ['ROS_STATIC_PEERS'] = ''
     os.environ.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE',
@@ -261,13 +353,17 @@ def main(argv=None):
         folder = Path(options.report).resolve() if options.report else None
         if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
-    except (CourseError, CourseGuardError, OSError) as error:
+        sandbox = sandbox_policy(options, courses, folder, submissions)
+    except (CourseError, CourseGuardError, SandboxError, OSError) as error:
         print(f'grade_lab: error: {error}', file=sys.stderr)
         return EXIT_BAD_INPUT
     become_subreaper()
+    print(f'grade_lab: sandbox: {describe_mode(sandbox.mode, options.disk, sandbox.why)}',
+          flush=True)
+    problems = []
     with tempfile.TemporaryDirectory(prefix='grade_lab-') as scratch:
         grading = Grading(options, command, courses, submissions, folder or Path(scratch),
-                          guard)
+                          guard, sandbox)
         for number in (signal.SIGINT, signal.SIGTERM):
             signal.signal(number, lambda *_: grading.stopping.set())
         print(f'grade_lab: {len(courses)} course(s) x {len(submissions)} submission(s), '
@@ -275,11 +371,15 @@ def main(argv=None):
         verdicts = grading.run()
         print(terminal_table(verdicts))
         if folder is not None:
-            write_reports(options, command, verdicts, folder)
-            print(f'reports in {folder}: report.md, junit.xml, results.json, classroom.json')
+            problems = write_reports(options, command, verdicts, folder)
+            for problem in problems:
+                print(f'grade_lab: {problem}', file=sys.stderr)
+            if not problems:
+                print(f'reports in {folder}: report.md, junit.xml, results.json, classroom.json')
     if grading.stopping.is_set():
         print('grade_lab: interrupted: courses not run are errors', file=sys.stderr)
-    return EXIT_OK if all(verdict.status == PASS for verdict in verdicts) else EXIT_FAILED
+    passed = all(verdict.status == PASS for verdict in verdicts)
+    return EXIT_OK if passed and not problems else EXIT_FAILED
 
 
 if __name__ == '__main__':

@@ -31,6 +31,7 @@ class CourseVerdict:
     path_length: float | None = None
     folder: Path | None = None
     picture_problem: str = ''
+    notes: tuple[str, ...] = ()
     run: Run | None = field(default=None, repr=False)
 
     @property
@@ -78,7 +79,8 @@ class RunEvidence:
     stalled) per step), statuses every robot_status message ((wall ns sent, text)); submitted_map
     a mapping submission's last map (or why it was none); fouls are
     lines that each fail the course; error a failure of the grader's (or of another program's),
-    not the submission's. The bag is the run's record for people, never the judge's evidence.
+    not the submission's. The bag is the run's record for people, never the judge's evidence;
+    notes say what it lacks (cut short at its size limit).
     """
 
     outcome: ProcessOutcome
@@ -89,13 +91,14 @@ class RunEvidence:
     limits: SpeedLimits | None = None
     fouls: tuple[str, ...] = ()
     submitted_map: OccupancyMap | str | None = None
+    notes: tuple[str, ...] = ()
 
 
 def grade_course(course: Course, evidence: RunEvidence,
                  robot_name: str = 'robot0') -> CourseVerdict:
     """Judge a course's run from its evidence (and keep the run it makes)."""
     verdict = CourseVerdict(course, outcome=evidence.outcome, error=evidence.error,
-                            folder=evidence.bag.parent)
+                            folder=evidence.bag.parent, notes=evidence.notes)
     run = verdict.run = assemble_run(course, evidence.truth, evidence.statuses, robot_name)
     if evidence.error and not evidence.fouls:
         return verdict

@@ -1,8 +1,10 @@
 """
 The grader's node in a course's domain.
 
-It records the run's bag, keeps every robot_status message with its send time (at most
-status_limit of them), and reads the graph for who publishes where.
+It records the run's bag (at most MAX_BAG_BYTES of it), keeps every robot_status message with
+its send time (at most status_limit of them), a mapping submission's last map (none larger than
+the world's geometry could be), and reads the graph for who publishes where. What it holds of a
+run is so bounded whatever the submission sends, but for the one message being received.
 """
 
 import time
@@ -15,8 +17,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.serialization import deserialize_message
 from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.occupancy_map import MapError, OccupancyMap
+from simple_robot_control.occupancy_map import load_map, MapError, OccupancyMap
 from std_msgs.msg import String
+from stdr_lite.core.loading import map_file
 from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import parse_status
 
@@ -27,6 +30,15 @@ from waypoint_lab.status import parse_status
 JUDGED_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE)
 STATUS_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# A submitted map: the last matters, and one at a time is taken in.
+MAP_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                     reliability=ReliabilityPolicy.RELIABLE)
+MAP_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# What a map's message may hold beyond its cells (header, frame, geometry).
+MAP_HEADER_BYTES = 4096
+MAX_BAG_BYTES = 512 << 20
 # The simulator's topics, which nothing else may publish on during a run.
 SIMULATOR_TOPICS = ('/clock', '/map', '/tf', '/tf_static')
 ROBOT_TOPICS = ('odom', 'ground_truth', 'stall')
@@ -43,10 +55,11 @@ class GradingRecorder(GuardedNode):
     def __init__(self, context, bag, robot_name, course):
         # Each course's recorder is a node of this process: one rosout publisher per name.
         super().__init__('grade_lab_recorder', context=context, enable_rosout=False)
-        self.get_logger().set_level(LoggingSeverity.WARN)
+        # What goes wrong (a bag the disk refuses) is said once, by the course's verdict.
+        self.get_logger().set_level(LoggingSeverity.FATAL)
         robot = f'/{robot_name}'
         self.recording = BagRecording(self, bag, (f'/{COURSE_TOPIC}', '/map'), send_times=True,
-                                      course=course.waypoint_file.name)
+                                      course=course.waypoint_file.name, max_bytes=MAX_BAG_BYTES)
         self.simulator_topics = {f'{robot}/ground_truth': 'nav_msgs/msg/Odometry',
                                  f'{robot}/stall': 'std_msgs/msg/Bool'}
         self.watched = SIMULATOR_TOPICS + tuple(f'{robot}/{name}' for name in ROBOT_TOPICS)
@@ -64,16 +77,34 @@ class GradingRecorder(GuardedNode):
         self.recording.record_now(f'/{STATUS_TOPIC}', 'std_msgs/msg/String', JUDGED_QOS,
                                   self._on_status, STATUS_HISTORY)
         # A mapping submission's map: the last one is judged (kept serialised until then).
-        self._last_map = None
+        self._last_map = self._map_refused = None
         if course.task == MAPPING:
+            world = load_map(map_file(course.map_file))
+            self._map_limit = world.width * world.height + MAP_HEADER_BYTES
+            self._world_size = f'{world.width}x{world.height}'
             self.recording.record_now(SUBMITTED_MAP_TOPIC, 'nav_msgs/msg/OccupancyGrid',
-                                      JUDGED_QOS, self._on_map, STATUS_HISTORY)
+                                      MAP_QOS, self._on_map, MAP_HISTORY, self._map_fits)
+
+    def _map_fits(self, data):
+        return len(data) <= self._map_limit
 
     def _on_map(self, data, _):
-        self._last_map = data
+        if self._map_fits(data):
+            self._last_map, self._map_refused = data, None
+        else:
+            self._last_map, self._map_refused = None, (
+                f'{len(data):,} bytes on {SUBMITTED_MAP_TOPIC}, more than a map of the '
+                f"world's {self._world_size} cells takes: refused as it came")
+
+    @property
+    def bag_truncated(self) -> str:
+        """Say why the bag stopped short of the run ('' when it did not)."""
+        return self.recording.bag.truncated
 
     def submitted_map(self) -> OccupancyMap | str | None:
         """Return the last map the submission published, a line saying why it is none, or None."""
+        if self._map_refused:
+            return self._map_refused
         if self._last_map is None:
             return None
         try:

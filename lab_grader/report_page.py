@@ -61,6 +61,7 @@ def _course_section(verdict, report_folder, nested):
         lines += [f'![{verdict.course.name}]({picture.as_posix()})', '']
     elif verdict.picture_problem:
         lines += [f'({verdict.picture_problem})', '']
+    lines += [f'(run.mcap: {note})' for note in verdict.notes] + ([''] if verdict.notes else [])
     lines += ['| check | result | evidence |', '|---|---|---|']
     if verdict.error:
         lines.append(f'| run | ERROR | {_cell(verdict.error)} |')

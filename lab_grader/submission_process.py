@@ -16,28 +16,38 @@ import subprocess
 import sys
 import time
 
+from lab_grader.sandbox import jail_descriptor, processes_of
 from lab_grader.supervision import (describe, marked, reap_orphans, stop_all, Supervised,
                                     TERMINATE_GRACE)
 import psutil
 
 REAPER = str(Path(__file__).with_name('reaper.py'))
+PROBE_TIMEOUT = 60.0
+# A sandbox's /tmp with less than this free is full: what the submission wrote filled it.
+FULL_BELOW = 64 << 10
 
 
 class Submission(Supervised):
     """The submission's command under a reaper; its exit status comes from the reaper."""
 
-    def __init__(self, command, marker, output_path, cwd=None, env=None, memory_mb=0):
+    def __init__(self, command, marker, output_path, cwd=None, env=None, memory_mb=0,
+                 jail=None):
         self._status_read, status_write = os.pipe()
         os.set_blocking(self._status_read, False)
         self._status_text = ''
         self._exit_code = self._main = None
+        self.uid = jail['uid'] if jail else None
+        self._in_namespaces = bool(jail)
+        jail_fd = jail_descriptor(jail) if jail else -1
+        descriptors = (status_write,) + ((jail_fd,) if jail else ())
         # Isolated (-I): the standard library alone, nothing from the submission's folder.
         reaper = [sys.executable, '-I', REAPER, str(status_write), str(memory_mb),
-                  str(os.getpid()), '--', *command]
+                  str(os.getpid()), str(jail_fd), '--', *command]
         try:
-            super().__init__(reaper, marker, output_path, cwd, env, pass_fds=(status_write,))
+            super().__init__(reaper, marker, output_path, cwd, env, pass_fds=descriptors)
         finally:
-            os.close(status_write)
+            for descriptor in descriptors:
+                os.close(descriptor)
         self.command = list(command)
         if self.process is None:
             self.start_error = self.start_error.replace(reaper[0], command[0], 1)
@@ -56,7 +66,7 @@ class Submission(Supervised):
                 if line.startswith('cannot start '):
                     self.start_error = self.start_error or line
                 elif line.startswith('started '):
-                    self._main = int(line.split()[1])
+                    self._main = self._host_pid(int(line.split()[1]))
                 elif line.startswith('exit ') and self._exit_code is None:
                     self._exit_code = int(line.split()[1])
         elif self._exit_code is None and self.process.poll() is not None:
@@ -76,18 +86,59 @@ class Submission(Supervised):
     def exit_code(self) -> int | None:
         return self._exit_code
 
+    def _host_pid(self, pid):
+        """Return the pid this process knows a pid of the submission by (in its namespace)."""
+        if not self._in_namespaces:
+            return pid
+        for process in _descendants(psutil.Process(self.process.pid)):
+            try:
+                with open(f'/proc/{process.pid}/status') as status:
+                    for line in status:
+                        if line.startswith('NSpid:'):
+                            numbers = line.split()[1:]
+                            if len(numbers) > 1 and int(numbers[-1]) == pid:
+                                return process.pid
+            except (OSError, ValueError):
+                continue
+        return None
+
     def _tree(self):
-        """Return every running process of the submission: the reaper's descendants, marked."""
+        """
+        Return every running process of the submission: the reaper's descendants, marked.
+
+        Under a uid of its own, every process of that uid is the submission's too, wherever
+        it went.
+        """
         found = {}
         try:
             for process in psutil.Process(self.process.pid).children(recursive=True):
                 found[process.pid] = process
         except psutil.Error:
             pass
-        for process in marked(self.marker):
-            if process.pid != self.process.pid:
-                found[process.pid] = process
+        for process in marked(self.marker) if self.uid is None else processes_of(self.uid):
+            found[process.pid] = process
+        for reaper in {self.process.pid} | self._namespaces_first():
+            found.pop(reaper, None)
         return [process for process in found.values() if _alive(process)]
+
+    def _namespaces_first(self):
+        """Return the pid of the first process of the submission's namespaces (a reaper) if any."""
+        if not self._in_namespaces:
+            return set()
+        try:
+            return {child.pid for child in psutil.Process(self.process.pid).children()}
+        except psutil.Error:
+            return set()
+
+    def disk_full(self) -> bool:
+        """Whether the submission has filled its own /tmp (with namespaces; False otherwise)."""
+        for first in self._namespaces_first():
+            try:
+                space = os.statvfs(f'/proc/{first}/root/tmp')
+            except OSError:
+                continue
+            return space.f_bavail * space.f_frsize < FULL_BELOW
+        return False
 
     def _detached(self):
         """Return the processes that left the command's own tree (adopted by the reaper)."""
@@ -153,3 +204,25 @@ def _descendants(process):
         return process.children(recursive=True)
     except psutil.Error:
         return []
+
+
+def sandbox_problem(jail: dict, env: dict, output_path) -> str:
+    """
+    Say why a submission could not run this package's Python in its sandbox ('' if it can).
+
+    The uid of its own must read the interpreter and the installed package (a venv whose base
+    interpreter lives in root's home is readable only with namespaces, which expose it).
+    """
+    probe = Submission([sys.executable, '-c', 'import rclpy, simple_robot_control'],
+                       'grade_lab-probe', output_path, cwd=jail['cwd'], env=env, jail=jail)
+    deadline = time.monotonic() + PROBE_TIMEOUT
+    while probe.running and time.monotonic() < deadline:
+        time.sleep(0.02)
+    probe.stop()
+    if probe.start_error:
+        return probe.start_error
+    if probe.exit_code != 0:
+        said = ' | '.join(line for line in probe.last_lines if line.strip())[-300:]
+        return (f'uid {jail["uid"]} cannot run {sys.executable} with this package '
+                f'(exit code {probe.exit_code}: {said or "nothing said"})')
+    return ''

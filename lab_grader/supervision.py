@@ -140,7 +140,7 @@ class Supervised:
         self.last_lines = deque(maxlen=KEPT_LINES)
         self.started_at = time.monotonic()
         self.ended_at = None
-        self._output = open(output_path, 'wb')
+        self._output = open(output_path, 'wb', buffering=0)
         environment = dict(os.environ if env is None else env, **{MARKER: marker})
         try:
             self.process = subprocess.Popen(
@@ -211,17 +211,24 @@ class Supervised:
             _MANAGED.discard(self.process.pid)
 
     def _read(self):
-        """Copy the output to the file, at most MAX_OUTPUT_BYTES of it, keeping its last lines."""
+        """
+        Copy the output to the file, at most MAX_OUTPUT_BYTES of it, keeping its last lines.
+
+        A file the disk refuses (full) is written no further; the output is read to its end.
+        """
         pending, written = b'', 0
         with self._output:
             for chunk in iter(lambda: self.process.stdout.read1(65536), b''):
                 if written < MAX_OUTPUT_BYTES:
                     part = chunk[:MAX_OUTPUT_BYTES - written]
-                    self._output.write(part)
-                    self._output.flush()
                     written += len(part)
-                    if written >= MAX_OUTPUT_BYTES:
-                        self._output.write(b'\n[output cut short at 1 MB]\n')
+                    try:
+                        self._output.write(part)
+                        if written >= MAX_OUTPUT_BYTES:
+                            self._output.write(b'\n[output cut short at 1 MB]\n')
+                        self._output.flush()
+                    except OSError:
+                        written = MAX_OUTPUT_BYTES
                 *lines, pending = (pending + chunk).split(b'\n')
                 self.last_lines.extend(line.decode(errors='replace')[:300] for line in lines)
                 pending = pending[-4096:]

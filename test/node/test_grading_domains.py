@@ -4,6 +4,7 @@ import threading
 
 from conftest import DOMAIN
 from lab_grader import course_run
+from lab_grader.sandbox import SandboxPolicy
 from rclpy.node import Node
 from simple_robot_control.domains import DomainClaim
 from waypoint_lab.course import Course
@@ -26,7 +27,7 @@ def test_a_domain_where_another_program_runs_is_passed_over(ros_context, executo
     (tmp_path / 'here.txt').write_text('1 2 0\n')
     run = course_run._Run(Course('here', (Waypoint(1.0, 2.0, 0.0),),
                                  waypoint_file=tmp_path / 'here.txt'),
-                          threading.Event(), tmp_path)
+                          threading.Event(), tmp_path, SandboxPolicy())
     try:
         run.course_robot = 'robot0'
         run._take_empty_domain()

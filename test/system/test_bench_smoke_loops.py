@@ -1,5 +1,7 @@
 """The benchmarks of the control law, the viewer and learning run and print their figures."""
 
+import re
+
 from bench_smoke import assert_smoke_run_prints
 
 
@@ -32,3 +34,11 @@ def test_the_courseworks_bench_prints_the_reference_answers_figures():
         'courseworks', r'^plus_room_mapping +PASS  agreement 1\.000, coverage 0\.9\d\d, ',
         r'^plus_room_planning +PASS  path 0\.9\d\dx the shortest, clearance \d\.\d\dx the radius;'
         r' \d+\.\d s sim, \d+x real time in CPU time$')
+
+
+def test_the_grading_bench_prints_sealed_against_unsealed_grading():
+    output = assert_smoke_run_prints('grading', r'^--sandbox none +[0-9.]+ s wall',
+                                     r'^rotations +PASS ')
+    if '--sandbox namespaces' in output:
+        assert re.search(r'^sealed / unsealed wall time: [0-9.]+ \(target at most 1\.2',
+                         output, re.MULTILINE), output

@@ -7,11 +7,15 @@ controller that drives there can be. Every run is checked to leave no process be
 """
 
 import json
+import os
 from pathlib import Path
+import re
+import subprocess
 import sys
 from xml.etree import ElementTree
 
 from grade_runs import grade, write_course
+from processes import executable
 import pytest
 
 # Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
@@ -149,3 +153,35 @@ def test_bad_input_is_one_line_and_exit_code_2(tmp_path, arguments, complaint):
     assert result.returncode == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith('grade_lab: error: ') and complaint in lines[0]
+
+
+def test_another_middleware_is_refused_in_one_line(tmp_path, monkeypatch):
+    write_course(tmp_path / 'courses', 'fine', '1.0 2.0 0.0')
+    monkeypatch.setenv('RMW_IMPLEMENTATION', 'rmw_cyclonedds_cpp')
+    result = grade('--courses', tmp_path / 'courses', '--', 'python3', '{waypoints}',
+                   cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.strip() == (
+        'grade_lab: error: RMW_IMPLEMENTATION=rmw_cyclonedds_cpp: grade_lab grades on '
+        'rmw_fastrtps_cpp alone (who publishes is told by its sockets and endpoints); unset it')
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason='mounting a small disk takes root')
+def test_a_full_report_disk_is_one_line_each_and_exit_code_1(tmp_path):
+    """The report folder on a 64 kB disk: what cannot be written is said, nothing half-written."""
+    write_course(tmp_path / 'courses', 'fine', '1.0 2.0 0.0', time_limit=5)
+    report = tmp_path / 'report'
+    report.mkdir()
+    tmp_path.chmod(0o755)
+    command = [executable('grade_lab'), '--courses', str(tmp_path / 'courses'), '--report',
+               str(report), '--', sys.executable, '-c', 'import time; time.sleep(1)',
+               '{waypoints}']
+    script = f'mount -t tmpfs -o size=64k tmpfs {report} && exec "$@"'
+    result = subprocess.run(['unshare', '--mount', '--propagation', 'private', 'sh', '-c',
+                             script, 'sh', *command], capture_output=True, text=True,
+                            timeout=120, cwd=tmp_path)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert 'Traceback' not in result.stderr + result.stdout
+    lines = result.stderr.strip().splitlines()
+    assert lines and all(re.fullmatch(r'grade_lab: \S+: not written: No space left on device',
+                                      line) for line in lines), lines

@@ -46,7 +46,9 @@ def graded(tmp_path_factory):
     copier = f'exec {sys.executable} {COPIER}\n'
     gradings = (
         (write_groups(root / 'mapping', {'reference': reference_script(),
-                                         'copies_map': copier}), SCENARIOS),
+                                         'copies_map': copier,
+                                         'huge_map': copier.replace('\n', ' --huge\n')}),
+         SCENARIOS),
         (write_groups(root / 'exploration', {
             'explorer': reference_script('explore_for:=3600.0'), 'stands_still': copier}),
          ('plus_room_exploration',)))
@@ -74,6 +76,15 @@ def test_a_map_copied_from_the_map_file_fails_as_not_built_from_the_laser(graded
     evidence = verdicts(report / 'mapping', 'copies_map', 'plus_room_mapping')['mapping']
     assert not evidence[0] and 'not built from the laser alone' in evidence[1]
     assert results['mapping'].returncode == 1
+
+
+def test_a_map_larger_than_the_world_is_refused_as_it_comes(graded):
+    _, report = graded
+    passed, evidence = verdicts(report / 'mapping', 'huge_map', 'plus_room_mapping')['mapping']
+    assert not passed and '16,000,104 bytes on /coursework_map' in evidence
+    assert "more than a map of the world's 300x300 cells takes: refused as it came" in evidence
+    bag = report / 'mapping' / 'huge_map' / 'plus_room_mapping' / 'run.mcap'
+    assert bag.stat().st_size < 4 << 20, 'the refused map is not in the bag either'
 
 
 def test_the_reference_explorer_passes_and_one_standing_still_fails(graded):

@@ -37,7 +37,8 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'course', 'rules', 'parameters', 'waypoints', 'status', 'lifecycle', 'run', 'plot_run',
         'run_picture')] + [
     f'lab_grader/{name}.py' for name in (
-        'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision')] + [
+        'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision', 'sandbox',
+        'jail', 'publishers', 'reaper')] + [
     'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [

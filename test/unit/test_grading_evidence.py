@@ -6,7 +6,8 @@ from pathlib import Path
 import socket
 
 from lab_grader.grading import grade_course, RunEvidence
-from lab_grader.publishers import find_intruders, process_bits, Publisher
+from lab_grader.publishers import (domain_ports, find_intruders, Owner, Publisher,
+                                   socket_owners, strangers)
 from lab_grader.recorder import status_limit
 from lab_grader.simulator_link import SimulatorLink, SpeedLimits
 from lab_grader.verdicts import FAIR_PLAY, ProcessOutcome, undrivable
@@ -18,40 +19,53 @@ COURSE = Course('here', (Waypoint(1.0, 2.0, 0.0),))
 LIMITS = SpeedLimits(0.02, 1.0, 2.0)
 
 
-def gid(pid, vendor=b'\x01\x0f'):
-    """Make a Fast DDS endpoint id of a process: vendor, host, the pid's low 16 bits, the rest."""
-    return vendor + b'\x78\xfd' + (pid & 0xFFFF).to_bytes(2, 'little') + bytes(10)
+def gid(number):
+    """Make an endpoint id: what a publisher claims of itself, nothing the grader trusts."""
+    return b'\x01\x0f' + number.to_bytes(14, 'little')
 
 
-def test_a_publisher_is_traced_to_its_process_by_the_low_bits_of_its_pid():
-    assert process_bits(gid(4571)) == 4571
-    assert process_bits(gid(70000)) == 70000 & 0xFFFF
-    assert process_bits(gid(4571, vendor=b'\x01\x10')) is None
-    assert process_bits(b'\x01') is None
-
-
-def test_only_the_simulator_may_publish_on_its_topics_and_only_the_submission_its_status():
-    simulator, submission, stranger = 100, 200, 300
-    found = find_intruders(
-        [Publisher('/clock', '/stdr_lite', gid(simulator)),
-         Publisher('/robot0/ground_truth', '/cheat', gid(submission)),
-         Publisher('/tf', '/demo', gid(stranger))],
-        [Publisher('/robot_status', '/student', gid(submission)),
-         Publisher('/robot_status', '/other', gid(stranger))],
-        simulator, {submission, 201}, running={simulator, submission, stranger})
-    assert found.fouls == ["/robot0/ground_truth was published by node '/cheat' of the "
+def test_only_the_simulators_own_endpoints_may_publish_on_its_topics():
+    simulator = [Publisher('/clock', '/stdr_lite', gid(1)),
+                 Publisher('/robot0/odom', '/stdr_lite', gid(2))]
+    forged = Publisher('/robot0/ground_truth', '/stdr_lite', gid(3))
+    found = find_intruders(simulator + [forged], {gid(1), gid(2)}, [])
+    assert found.fouls == ["/robot0/ground_truth was published by node '/stdr_lite' of the "
                            'submission (only the simulator publishes it)']
-    assert len(found.strangers) == 2
-    assert all('a process outside this run' in line for line in found.strangers)
-    assert "'/demo'" in found.strangers[0] and '/robot_status' in found.strangers[1]
+    assert found.strangers == []
 
 
-def test_a_publisher_whose_process_has_ended_is_the_submissions():
-    """The domain was empty at the start: a process gone by now was one of the run's."""
-    found = find_intruders([Publisher('/clock', '/gone', gid(400))],
-                           [Publisher('/robot_status', '/gone', gid(400))], 100, {200},
-                           running={100, 200, 300})
-    assert found.strangers == [] and len(found.fouls) == 1
+def test_with_another_program_in_the_domain_nobody_is_blamed_and_it_is_named():
+    found = find_intruders([Publisher('/clock', '/x', gid(3))], {gid(1)}, ['another (pid 9)'])
+    assert found.fouls == [] and found.strangers == ['another (pid 9)']
+
+
+def fake_proc(folder, sockets, processes):
+    """Write a /proc of crafted UDP sockets (port, uid, inode) and processes (pid: inodes)."""
+    lines = ['  sl  local_address rem_address   st tx_queue rx_queue tr tm->when retrnsmt   uid'
+             '  timeout inode']
+    for number, (port, uid, inode) in enumerate(sockets):
+        lines.append(f'{number:4}: 0100007F:{port:04X} 00000000:0000 07 00000000:00000000 '
+                     f'00:00000000 00000000 {uid:5} 0 {inode} 2 0000000000000000 0')
+    (folder / 'net').mkdir(parents=True)
+    (folder / 'net' / 'udp').write_text('\n'.join(lines) + '\n')
+    for pid, inodes in processes.items():
+        (folder / str(pid) / 'fd').mkdir(parents=True)
+        for descriptor, inode in enumerate(inodes):
+            (folder / str(pid) / 'fd' / str(descriptor)).symlink_to(f'socket:[{inode}]')
+    return folder
+
+
+def test_who_joined_a_domain_is_told_by_the_kernel_not_by_the_endpoints(tmp_path):
+    """Domain 5's ports are 8650-8899: a socket there is a participant's, its owner known."""
+    assert domain_ports(5) == range(8650, 8900)
+    proc = fake_proc(tmp_path, [(8660, 0, 101), (8662, 0, 102), (8664, 1000, 103),
+                                (7410, 1000, 104), (8666, 2000, 105)],
+                     {10: [101], 20: [102], 30: [103], 40: [104]})
+    owners = socket_owners(5, proc)
+    assert owners == {Owner(10, 0), Owner(20, 0), Owner(30, 1000), Owner(0, 2000)}
+    named = strangers(owners, run_pids={10, 20}, submission_uid=None)
+    assert len(named) == 2 and '(uid 2000,' in named[0] and 'pid 30, uid 1000' in named[1]
+    assert strangers(owners, run_pids={10, 20, 30}, submission_uid=2000) == []
 
 
 def test_a_run_may_send_ten_times_an_honest_runs_statuses_and_a_hundred_more():
