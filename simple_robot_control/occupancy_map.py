@@ -93,7 +93,7 @@ class OccupancyMap:
 
 
 def load_map(yaml_path):
-    """Load a map_server YAML file and its image; raise MapError on any problem."""
+    """Load a map_server YAML file and its image as ROS 1 map_server does; MapError if not."""
     yaml_path = os.fspath(yaml_path)
     description = read_yaml(yaml_path, 'map file', MapError)
     if not isinstance(description, dict):
@@ -103,36 +103,53 @@ def load_map(yaml_path):
     image_path = fields['image']
     if not os.path.isabs(image_path):
         image_path = os.path.join(os.path.dirname(yaml_path), image_path)
-    channel_sums, alpha = _read_image(image_path)
-    # A pixel's grey level is the mean of its three colour channels: a table of the cell for
-    # each of the 766 possible sums decides every pixel by the same arithmetic, at a byte each.
-    by_sum = image_to_cells(np.arange(3 * 255 + 1) / 3.0, None, fields)
-    cells = by_sum[channel_sums]
-    if alpha is not None and fields['mode'] != 'raw':
-        cells[alpha < 255] = UNKNOWN
-    return OccupancyMap(cells=np.ascontiguousarray(np.flipud(cells)),
+    pixels = _read_image(image_path)
+    return OccupancyMap(cells=np.ascontiguousarray(np.flipud(pixels_to_cells(pixels, fields))),
                         resolution=fields['resolution'], origin=fields['origin'],
                         source=yaml_path)
 
 
-def image_to_cells(pixels, alpha, fields):
-    """Convert grey levels (0..255, any shape) to occupancy values as map_server does."""
-    shade = pixels / 255.0
-    occupancy = shade if fields['negate'] else 1.0 - shade
-    occupied_thresh = fields['occupied_thresh']
-    free_thresh = fields['free_thresh']
+def pixels_to_cells(pixels: np.ndarray, fields: dict) -> np.ndarray:
+    """
+    Return the cells of an image's pixels (rows, columns, channels as map_server got them).
+
+    ROS 1 map_server's rules (image_loader.cpp), which STDR's maps were made for, to the cell:
+    a pixel's level is the mean of its channels: all of them for one or three channels, and for
+    four (with alpha) in trinary mode; the colour channels alone for four in scale and raw.
+    Negated, the level is 255 minus that. Raw: the cell is the level, cut to a whole number and
+    stored as a signed byte. Otherwise occupancy is (255 - level) / 255; above occupied_thresh
+    the cell is occupied, else below free_thresh free (so thresholds the wrong way round, such
+    as 0.0 and 1.0, read white as free and any other pixel as occupied), else unknown in trinary
+    mode or where the pixel's last channel is 0 (its alpha, or the blue of a colour image: the
+    loader reads the last channel whatever it is), else 1 + 98 * (occupancy - free_thresh) /
+    (occupied_thresh - free_thresh), cut to a whole number. The mean of at most four channels
+    is one of 1021 sums: a table of the cell for each decides every pixel at a byte each.
+    """
+    channels = pixels.shape[2]
+    averaged = channels if fields['mode'] == 'trinary' or channels != 4 else 3
+    sums = pixels[..., :averaged].sum(axis=2, dtype=np.uint16)
+    level = np.arange(255 * averaged + 1) / averaged
+    if fields['negate']:
+        level = 255.0 - level
     if fields['mode'] == 'raw':
-        cells = np.where(pixels <= OCCUPIED, pixels, UNKNOWN)
-    else:
-        cells = np.full(pixels.shape, UNKNOWN)
-        if fields['mode'] == 'scale':
-            fraction = (occupancy - free_thresh) / (occupied_thresh - free_thresh)
-            cells = np.rint(99.0 * fraction).astype(int)
-        cells = np.where(occupancy > occupied_thresh, OCCUPIED, cells)
-        cells = np.where(occupancy < free_thresh, FREE, cells)
-        if alpha is not None:
-            cells = np.where(alpha < 255, UNKNOWN, cells)
-    return cells.astype(np.int8)
+        return level.astype(np.uint8).view(np.int8)[sums]
+    occupancy = (255.0 - level) / 255.0
+    occupied, free = fields['occupied_thresh'], fields['free_thresh']
+    between = np.full(level.shape, UNKNOWN, dtype=np.int8)
+    if fields['mode'] == 'scale':
+        with np.errstate(divide='ignore', invalid='ignore'):
+            graded = 1.0 + 98.0 * (occupancy - free) / (occupied - free)
+        between = np.where(np.isfinite(graded), np.clip(graded, 0, 255), 0).astype(
+            np.uint8).view(np.int8)
+
+    def decided(otherwise):
+        return np.where(occupancy > occupied, np.int8(OCCUPIED),
+                        np.where(occupancy < free, np.int8(FREE), otherwise)).astype(np.int8)
+    cells = decided(between)[sums]
+    if fields['mode'] == 'scale' and channels > 1:
+        transparent = pixels[..., -1] == 0
+        cells[transparent] = decided(np.int8(UNKNOWN))[sums[transparent]]
+    return cells
 
 
 def _validated_fields(yaml_path, description):
@@ -156,13 +173,9 @@ def _validated_fields(yaml_path, description):
     fields['origin'] = tuple(_number(yaml_path, 'origin', value) for value in origin)
     if fields['negate'] not in (0, 1) or isinstance(fields['negate'], float):
         raise MapError(f'{yaml_path}: negate must be 0 or 1, got {describe(fields["negate"])}')
+    # Any finite thresholds, in any order, as map_server takes them (pixels_to_cells).
     for key in ('occupied_thresh', 'free_thresh'):
         fields[key] = _number(yaml_path, key, fields[key])
-        if not 0.0 <= fields[key] <= 1.0:
-            raise MapError(f'{yaml_path}: {key} must lie in [0, 1], got {fields[key]}')
-    if fields['free_thresh'] >= fields['occupied_thresh']:
-        raise MapError(f'{yaml_path}: free_thresh {fields["free_thresh"]} must be below '
-                       f'occupied_thresh {fields["occupied_thresh"]}')
     if fields['mode'] not in _MODES:
         raise MapError(f'{yaml_path}: mode must be one of {", ".join(_MODES)}, '
                        f'got {describe(fields["mode"])}')
@@ -177,11 +190,13 @@ def _number(yaml_path, key, value):
 
 def _read_image(image_path):
     """
-    Return the sum of the three colour channels of every pixel, and the alpha channel if any.
+    Return the image's pixels as map_server's loader (SDL_image) hands them over: channels last.
 
-    The image's size is read from its header and judged before any pixel is decoded, so a
-    compressed file that would unpack to gigabytes is refused in a moment; pixels stay bytes,
-    so a map of 16 M cells is read in well under a gigabyte.
+    One channel for a grey image (16-bit greys cut to their high byte, as the loader does) and
+    for a palette image (its indices, as the loader gives them); three for colour; four for
+    colour with alpha, and for grey with alpha (the grey in three). The image's size is read
+    from its header and judged before any pixel is decoded, so a compressed file that would
+    unpack to gigabytes is refused in a moment; pixels stay bytes.
     """
     check_file(image_path, 'map image', MapImageError, MAX_IMAGE_BYTES)
     too_large = f'(at most {MAX_CELLS:,} cells, e.g. 4096x4096)'
@@ -192,20 +207,21 @@ def _read_image(image_path):
                 raise MapTooLargeError(f'{image_path}: map image of {width}x{height} pixels is '
                                        f'too large {too_large}')
             image.load()
-            has_alpha = image.mode in ('RGBA', 'LA', 'PA') or 'transparency' in image.info
-            if image.mode == 'L':
-                channel_sums = 3 * np.asarray(image, dtype=np.uint16)
-                alpha = None
+            if image.mode in ('L', 'P'):
+                pixels = np.asarray(image, dtype=np.uint8)[..., np.newaxis]
+            elif image.mode in ('I;16', 'I;16B', 'I;16L', 'I'):
+                pixels = (np.asarray(image).astype(np.uint32) >> 8).astype(np.uint8)[
+                    ..., np.newaxis]
+            elif image.mode in ('RGBA', 'LA', 'PA'):
+                pixels = np.asarray(image.convert('RGBA'), dtype=np.uint8)
             else:
-                rgba = np.asarray(image.convert('RGBA'))
-                channel_sums = rgba[..., :3].sum(axis=2, dtype=np.uint16)
-                alpha = rgba[..., 3] if has_alpha else None
+                pixels = np.asarray(image.convert('RGB'), dtype=np.uint8)
     except MapTooLargeError:
         raise
     except Image.DecompressionBombError:
         raise MapTooLargeError(f'{image_path}: map image is too large {too_large}') from None
     except (OSError, SyntaxError, ValueError) as error:
         raise MapImageError(f'{image_path}: cannot read map image: {error}') from None
-    if channel_sums.size == 0:
+    if pixels.size == 0:
         raise MapImageError(f'{image_path}: map image is empty')
-    return channel_sums, alpha
+    return pixels
