@@ -5,6 +5,10 @@ from nav_msgs.msg import Odometry
 from rclpy.event_handler import PublisherEventCallbacks
 from simple_robot_control.graph import type_name
 from std_msgs.msg import Bool
+try:
+    from stdr_msgs.srv import MoveRobot
+except ImportError:  # a ROS 2 machine where interfaces/stdr_msgs was not built
+    MoveRobot = None
 from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
 
 GROUND_TRUTH = 'ground_truth'
@@ -55,10 +59,17 @@ class RobotTopics:
         self._prefix, self._frames = prefix, frames
         self._on_command = on_command
         self._command = self._command_subscription(TwistStamped if stamped else Twist)
-        # A supervised simulator (on_initial_pose None) lets nothing move a robot.
-        self._pose_subscription = None if on_initial_pose is None else node.create_subscription(
-            PoseWithCovarianceStamped, f'{prefix}/initialpose',
-            lambda message: on_initial_pose(name, message), 10)
+        # A supervised simulator (on_initial_pose None) lets nothing move a robot. STDR's own
+        # teleport, /robotN/replace, where its stdr_msgs are built (interfaces/).
+        self._pose_subscription = self._replace = None
+        if on_initial_pose is not None:
+            self._pose_subscription = node.create_subscription(
+                PoseWithCovarianceStamped, f'{prefix}/initialpose',
+                lambda message: on_initial_pose(name, message), 10)
+        if on_initial_pose is not None and MoveRobot is not None:
+            self._replace = node.create_service(
+                MoveRobot, f'{prefix}/replace',
+                lambda request, response: (on_initial_pose(name, request), response)[1])
         self.cmd_vel_topic = self._command.topic_name
         self._sensors = {}
         self._optional = {node.resolve_topic_name(f'{prefix}/{key}'): item for key, item in [
@@ -202,6 +213,9 @@ class RobotTopics:
         for subscription in (self._command, self._pose_subscription):
             if subscription is not None:
                 self._node.destroy_subscription(subscription)
+            yield
+        if self._replace is not None:
+            self._node.destroy_service(self._replace)
             yield
         publishers = [self.odom_publisher, self._ground_truth_publisher, self._stall_publisher]
         publishers += [publisher for publisher, _ in self._sensors.values()]

@@ -1,5 +1,7 @@
 """The stdr_lite node: the simulation core on STDR's topics and the standard simulation API."""
 
+import array
+import math
 import sys
 
 from nav_msgs.msg import MapMetaData, OccupancyGrid
@@ -106,7 +108,7 @@ class StdrLite(GuardedNode):
         self.sync_entities()
         self._map = map_message(self.simulation.occupancy_map, self.frames.map_frame)
         self._publish_map()
-        for name in MAP_SERVICES if self._map_visible else ():
+        for name in MAP_SERVICES:
             self.requests.serve(GetMap, name, self._answer_map, private=False)
         # In lockstep the controller sets the pace by design: only free-running can lag.
         HealthWatch(self, self.simulation, self._topics,
@@ -196,8 +198,17 @@ class StdrLite(GuardedNode):
         self._map_publisher.publish(self._map if self._map_visible else self._map.info)
 
     def _answer_map(self, request, response):
-        """Answer GetMap with the current world, as /map has it (after any load_world)."""
-        response.map = self._map
+        """
+        Answer GetMap with the current world, as /map has it (after any load_world).
+
+        Where the map is hidden, with its geometry and every cell unknown: a mapper written the
+        STDR way sizes its grid from static_map at start, and learns nothing more from it.
+        """
+        if self._map_visible:
+            response.map = self._map
+            return
+        response.map.header, response.map.info = self._map.header, self._map.info
+        response.map.data = array.array('b', bytes([0xFF]) * len(self._map.data))
 
     def show_state(self):
         """Publish the current state again (same stamp), as after a teleport while paused."""
@@ -225,13 +236,27 @@ class StdrLite(GuardedNode):
         timer = self.create_timer(0.2, quit_now)
 
     def _on_initial_pose(self, name, message):
+        """
+        Move a robot where initialpose or STDR's replace (stdr_msgs/MoveRobot) puts it.
+
+        STDR's replace names a planar pose in the map frame (STDR's map_static under
+        frame_style stdr); either is refused, and said in the log, into a wall or off the map.
+        """
+        what = 'initialpose' if hasattr(message, 'pose') else 'replace'
         try:
-            target = planar_pose(message.pose.pose)
+            if what == 'replace':
+                pose = message.new_pose
+                target = tuple(float(value) for value in (pose.x, pose.y, pose.theta))
+                if not all(map(math.isfinite, target)):
+                    raise ValueError(f'the pose {target} is not finite')
+            else:
+                target = planar_pose(message.pose.pose)
         except ValueError as error:
-            self.get_logger().warn(f'{name}: initialpose refused: {error}')
+            self.get_logger().warn(f'{name}: {what} refused: {error}')
             return
         where = ', '.join(f'{value:g}' for value in target)
-        frame = message.header.frame_id
+        frame = (message.header.frame_id if what == 'initialpose'
+                 else STDR_STATIC_FRAME if self.frames.stdr else '')
         if self.frames.stdr and frame == STDR_STATIC_FRAME:
             target = compose(self.simulation.occupancy_map.origin, target)
         elif frame not in ('', self.frames.map_frame):

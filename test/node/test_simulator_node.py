@@ -3,8 +3,9 @@
 import functools
 import math
 
-from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
+from geometry_msgs.msg import Pose2D, PoseWithCovarianceStamped, Twist
 from nav_msgs.msg import MapMetaData, OccupancyGrid, Odometry
+from nav_msgs.srv import GetMap
 import pytest
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -19,6 +20,7 @@ from simulation_interfaces.msg import Result, SimulationState
 from simulation_interfaces.srv import DeleteEntity, SetSimulationState, SpawnEntity
 from std_msgs.msg import Bool
 from stdr_lite.node.stdr_lite import StdrLite
+from stdr_msgs.srv import MoveRobot
 
 
 class Probe(Node):
@@ -199,13 +201,15 @@ def test_late_subscriber_receives_the_map(ros_context, executor):
 
 
 def test_a_hidden_map_gives_its_geometry_alone(ros_context, executor):
-    """map_visible false: /map_metadata (latched), no /map, no GetMap service."""
+    """map_visible false: /map_metadata (latched), no /map; GetMap's cells all unknown."""
     start(ros_context, executor, map_visible=False)
     late, info = latched_message(ros_context, executor, MapMetaData, '/map_metadata')
     assert (info.width, info.height) == (400, 300) and info.resolution == pytest.approx(0.05)
     assert late.count_publishers('/map') == 0
-    services = {name for name, _ in late.get_service_names_and_types()}
-    assert not services & {'/static_map', '/map_server/map'}
+    for service in ('static_map', 'map_server/map'):
+        grid = ServiceCaller(executor, late, prefix='')(GetMap, service).map
+        assert (grid.info.width, grid.info.height, grid.header.frame_id) == (400, 300, 'map')
+        assert len(grid.data) == 400 * 300 and set(grid.data) == {-1}
 
 
 @pytest.mark.parametrize('params, message', [
@@ -278,6 +282,20 @@ def test_robot_list_teleport_and_refusal(ros_context, executor, tmp_path):
     spin_until(executor, lambda: latest['scout'] == pytest.approx((6.0, 5.0, 1.0)),
                what='the teleported robot')
     assert latest['robot0'] == pytest.approx((2.0, 2.0, 0.0))
+
+
+def test_stdrs_replace_teleports_and_refuses_a_wall(ros_context, executor):
+    """The teleport of STDR's /robotN/replace (stdr_msgs/srv/MoveRobot), as scripts call it."""
+    _, probe = start(ros_context, executor)
+    latest = latest_poses(probe, ['robot0'])
+    spin_until(executor, lambda: 'robot0' in latest, what='odometry')
+    replace = ServiceCaller(executor, probe, prefix='/robot0')
+    replace(MoveRobot, 'replace', new_pose=Pose2D(x=0.1, y=5.0, theta=0.0))
+    spin_for(executor, 0.3)
+    assert latest['robot0'] == pytest.approx((1.0, 2.0, 0.0)), 'into the wall: refused'
+    replace(MoveRobot, 'replace', new_pose=Pose2D(x=6.0, y=5.0, theta=1.0))
+    spin_until(executor, lambda: latest['robot0'] == pytest.approx((6.0, 5.0, 1.0)),
+               what='the replaced robot')
 
 
 def test_robots_come_and_go_while_running(ros_context, executor):

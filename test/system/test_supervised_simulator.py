@@ -35,6 +35,7 @@ def test_a_supervised_simulator_plays_on_its_word_serves_no_change_and_ends_with
         assert not [name for name in services() if name.rsplit('/', 1)[-1] in WORLD_CHANGING
                     or 'simulate_steps' in name], services()
         assert not node.get_subscriptions_info_by_topic('/robot0/initialpose')
+        assert '/robot0/replace' not in {name for name, _ in node.get_service_names_and_types()}
         assert '/stdr_lite/get_available_worlds' not in services()
         world = call(executor, node, GetCurrentWorld, '/stdr_lite/get_current_world',
                      GetCurrentWorld.Request()).world
