@@ -9,6 +9,9 @@ the ground-truth map (rays.py), so nothing hidden behind a wall or out of range 
 against a submission. A submitted cell reads as nav_msgs/OccupancyGrid's readers take it
 (map_server's thresholds): occupied from 65, free up to 25, unknown otherwise. Walls are
 judged with a cell of slack either way: a wall drawn one cell off is neither false nor missed.
+A map of another resolution or origin (a student's 0.25 m grid over a 0.05 m world) is read on
+the world's cells: each takes the value of the submitted cell holding its centre (on_world_cells),
+and the slack is then a submitted cell (a coarse wall covers the world's cells beside it).
 A map that knows cells no ray could have reached (behind walls, in a room never entered) was
 not built from the laser: the task hides /map, and the judge fails a map that knows too much.
 """
@@ -104,10 +107,81 @@ def seen_along_run(grid: Grid, poses: ArrayLike, step: float, laser: Laser) -> S
     return seen_along(grid, np.asarray(poses, dtype=float)[::scan_every(laser, step)], laser)
 
 
+def on_world_cells(cells: ArrayLike, resolution: float, origin: tuple, world_shape: tuple,
+                   world_resolution: float, world_origin: tuple) -> np.ndarray:
+    """
+    Return a grid's reading of each of the world's cells: the value of its cell at their centre.
+
+    Both grids along x (origin yaw 0); the world's cells outside the grid read unknown (-1).
+    """
+    cells = np.asarray(cells)
+    rows, columns = world_shape
+
+    def indices(count, world_start, start, size):
+        centres = world_start + (np.arange(count) + 0.5) * world_resolution
+        found = np.floor((centres - start) / resolution).astype(np.int64)
+        return found, (found >= 0) & (found < size)
+    row_of, row_inside = indices(rows, world_origin[1], origin[1], cells.shape[0])
+    column_of, column_inside = indices(columns, world_origin[0], origin[0], cells.shape[1])
+    read = np.full(world_shape, -1, dtype=np.int8)
+    inside = np.ix_(row_inside, column_inside)
+    read[inside] = cells[np.ix_(row_of[row_inside], column_of[column_inside])]
+    return read
+
+
+def _judged_cells(sight, walls, free, wall_slack_cells):
+    """Return the judge's masks of the world's cells: what is right, false, missed, ..."""
+    near = np.ones((2 * wall_slack_cells + 1,) * 2, dtype=bool)
+    true_wall_near = ndimage.binary_dilation(sight.seen_wall, structure=near)
+    drawn_wall_near = ndimage.binary_dilation(walls, structure=near)
+    seen = sight.seen
+    sight_slack = max(SIGHT_SLACK_CELLS, wall_slack_cells)
+    known = walls | free
+    return {
+        'said': seen & known,
+        'false': sight.seen_free & walls & ~true_wall_near,
+        'missed': sight.seen_wall & ~drawn_wall_near,
+        'right': (sight.seen_free & free) | (sight.seen_free & walls & true_wall_near) | (
+            sight.seen_wall & walls) | (sight.seen_wall & free & drawn_wall_near),
+        'known': known,
+        'beyond_sight': known & ~ndimage.binary_dilation(seen, structure=np.ones(
+            (2 * sight_slack + 1,) * 2, dtype=bool)),
+    }
+
+
+# How the judge read each of the world's cells (map_readings), for a picture of it.
+NOT_SEEN, AGREED, WRONG, FALSE_WALL, MISSED_WALL, BEYOND_SIGHT, NOT_SAID = range(7)
+
+
+def map_readings(sight: Sight, submitted: ArrayLike,
+                 wall_slack_cells: int = WALL_SLACK_CELLS) -> np.ndarray:
+    """
+    Return a code per world cell of the judge's reading of a map (on the world's cells).
+
+    Where several hold, the first of: known beyond sight, false wall, missed wall, agreed,
+    said wrong, seen but not said, not seen.
+    """
+    walls, free = read_cells(submitted)
+    masks = _judged_cells(sight, walls, free, wall_slack_cells)
+    codes = np.full(walls.shape, NOT_SEEN, dtype=np.int8)
+    codes[sight.seen] = NOT_SAID
+    codes[masks['said'] & ~masks['right']] = WRONG
+    codes[masks['said'] & masks['right']] = AGREED
+    codes[masks['missed']] = MISSED_WALL
+    codes[masks['false']] = FALSE_WALL
+    codes[masks['beyond_sight']] = BEYOND_SIGHT
+    return codes
+
+
 def judge_map(sight: Sight, submitted: ArrayLike,
-              thresholds: MapThresholds = MapThresholds()) -> MapJudgement:
+              thresholds: MapThresholds = MapThresholds(),
+              wall_slack_cells: int = WALL_SLACK_CELLS) -> MapJudgement:
     """
     Judge a submitted grid (values as nav_msgs/OccupancyGrid's, the world's shape).
+
+    Walls are judged with wall_slack_cells of slack either way (a submitted cell, in the
+    world's cells, for a coarser map), and sight with as much at least: a coarse cell the laser
+    saw a corner of is known as a whole.
 
     agreement: of the seen cells the map says something of, the fraction it is right about;
     false walls: of the seen free cells, the fraction drawn as walls with no wall a cell away;
@@ -119,24 +193,14 @@ def judge_map(sight: Sight, submitted: ArrayLike,
     if walls.shape != sight.seen_free.shape:
         raise ValueError(f'a map of {walls.shape[1]}x{walls.shape[0]} cells, the world has '
                          f'{sight.seen_free.shape[1]}x{sight.seen_free.shape[0]}')
-    near = np.ones((2 * WALL_SLACK_CELLS + 1,) * 2, dtype=bool)
-    true_wall_near = ndimage.binary_dilation(sight.seen_wall, structure=near)
-    drawn_wall_near = ndimage.binary_dilation(walls, structure=near)
-    seen = sight.seen
-    said = seen & (walls | free)
-    false = sight.seen_free & walls & ~true_wall_near
-    missed = sight.seen_wall & ~drawn_wall_near
-    right = (sight.seen_free & free) | (sight.seen_free & walls & true_wall_near) | (
-        sight.seen_wall & walls) | (sight.seen_wall & free & drawn_wall_near)
-    known = walls | free
-    beyond_sight = ~ndimage.binary_dilation(seen, structure=np.ones(
-        (2 * SIGHT_SLACK_CELLS + 1,) * 2, dtype=bool))
+    masks = _judged_cells(sight, walls, free, wall_slack_cells)
+    said = masks['said']
     figures = {
-        'agreement': _fraction(right & said, said),
-        'false_walls': _fraction(false, sight.seen_free),
-        'missed_walls': _fraction(missed, sight.seen_wall),
-        'coverage': _fraction(said, seen),
-        'unseen': _fraction(known & beyond_sight, known),
+        'agreement': _fraction(masks['right'] & said, said),
+        'false_walls': _fraction(masks['false'], sight.seen_free),
+        'missed_walls': _fraction(masks['missed'], sight.seen_wall),
+        'coverage': _fraction(said, sight.seen),
+        'unseen': _fraction(masks['beyond_sight'], masks['known']),
     }
     failures = []
     if figures['agreement'] < thresholds.min_agreement:

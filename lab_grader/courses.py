@@ -15,12 +15,12 @@ import math
 import os
 from pathlib import Path
 
-from courseworks.names import HIDES_MAP
+from courseworks.names import HIDES_MAP, SUBMITTED_MAP_TOPIC
 from courseworks.tasks import check_task, TaskError, thresholds_for
 from simple_robot_control.input_files import is_regular_file, read_yaml
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import bundled_files
-from simple_robot_control.validation import Bounds, describe
+from simple_robot_control.validation import Bounds, describe, topic_name_problem
 from stdr_lite.core.fields import RobotFileError
 from stdr_lite.core.robot_description import load_robot
 from waypoint_lab.course import Course
@@ -111,28 +111,28 @@ def _start(source, value):
 
 def _world_file(source, key, value, folder):
     """
-    Find a map or robot file: beside the YAML, or a bundled one by name (lab_room); checked whole.
+    Find a map or robot: a path is a file beside the YAML, a bare name a bundled one; checked.
 
-    A file of the course's stays in the course's folder (its map's image too): a path that
-    leads out of it (`..`, an absolute path, a link), or names no regular file (a folder, a
-    FIFO, a device), is refused here, as is a file the simulator would refuse, before
-    anything runs.
+    A path (anything with a suffix or a slash: `factory.yaml`, `maps/factory.yaml`) must be a
+    regular file inside the course's folder (its map's image too): one that is missing, leads
+    out (`..`, an absolute path, a link) or is a folder, a FIFO or a device is refused, as is a
+    file the simulator would refuse, before anything runs. A bare name (`factory`) is a bundled
+    world or robot, never a file of the course's: a missing file is never replaced by a bundled
+    one of the same name.
     """
     if not isinstance(value, str) or not value:
         raise CourseError(f'{source}: {key} must be a file name, got {describe(value)}')
     folder = folder.resolve()
-    beside = folder / value
-    if os.path.lexists(beside) or os.path.isabs(value) or '..' in Path(value).parts:
-        path = _inside(source, key, value, beside, folder)
+    if '/' in value or Path(value).suffix:
+        path = _inside(source, key, value, folder / value, folder)
         _check_world_file(source, key, path, folder)
         return str(path)
     bundled = bundled_files('maps' if key == 'map' else 'robots')
-    name = value if value in bundled else Path(value).stem
-    if name in bundled and not Path(value).parent.name:
-        return bundled[name]
+    if value in bundled:
+        return bundled[value]
     known = ', '.join(sorted(bundled)) or 'none installed'
-    raise CourseError(f'{source}: {key} {value!r} is neither a file beside it nor a bundled '
-                      f'one ({known})')
+    raise CourseError(f'{source}: {key} {value!r} is no bundled {key} ({known}); a file of '
+                      f"the course's is named with its suffix ({value}.yaml)")
 
 
 def _inside(source, key, value, path, folder):
@@ -141,9 +141,11 @@ def _inside(source, key, value, path, folder):
     if folder not in resolved.parents:
         raise CourseError(f"{source}: {key} {value!r} leads outside the course's folder "
                           f'({resolved}): a course names only files beside it, or bundled ones')
+    if not os.path.lexists(resolved):
+        raise CourseError(f'{source}: {key} {value!r}: no such file beside it ({resolved})')
     if not is_regular_file(resolved):
-        raise CourseError(f'{source}: {key} {value!r} is no regular file (a folder, a FIFO, a '
-                          'device or nothing)')
+        raise CourseError(f'{source}: {key} {value!r} is no regular file (a folder, a FIFO or '
+                          'a device)')
     return resolved
 
 
@@ -187,6 +189,18 @@ def _with_settings(course, path):
     return replace(course, **changes)
 
 
+def _map_topic(source, value):
+    problem = topic_name_problem(value, 'map_topic')
+    if problem:
+        raise CourseError(f'{source}: {problem}')
+    return {'map_topic': value if value.startswith('/') else f'/{value}'}
+
+
+def submitted_map_topic(course: Course) -> str:
+    """Return where a mapping course's submission publishes its map (its YAML's map_topic)."""
+    return course.map_topic or SUBMITTED_MAP_TOPIC
+
+
 def _task(source, value):
     try:
         return {'task': check_task(value)}
@@ -213,6 +227,7 @@ _FIELDS = {
         source, 'max_path_length', value, GRADED_LIMIT)},
     'task': lambda source, value, _: _task(source, value),
     'thresholds': lambda source, value, _: {},
+    'map_topic': lambda source, value, _: _map_topic(source, value),
 }
 
 

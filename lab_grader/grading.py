@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from lab_grader.simulator_link import SpeedLimits
-from lab_grader.task_checks import task_checks
+from lab_grader.task_checks import judge_task, TaskPicture
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
 from simple_robot_control.occupancy_map import OccupancyMap
 from waypoint_lab.course import Course
@@ -32,6 +32,7 @@ class CourseVerdict:
     folder: Path | None = None
     picture_problem: str = ''
     notes: tuple[str, ...] = ()
+    task_picture: TaskPicture | None = field(default=None, repr=False)
     run: Run | None = field(default=None, repr=False)
 
     @property
@@ -108,6 +109,7 @@ def grade_course(course: Course, evidence: RunEvidence,
                          'again')
         return verdict
     judge = Judge(course, run, evidence.outcome, evidence.fouls, evidence.limits)
-    verdict.checks = judge.checks(task_checks(course, run, evidence.submitted_map))
+    task_checks, verdict.task_picture = judge_task(course, run, evidence.submitted_map)
+    verdict.checks = judge.checks(task_checks)
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict

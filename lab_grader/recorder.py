@@ -9,7 +9,8 @@ run is so bounded whatever the submission sends, but for the one message being r
 
 import time
 
-from courseworks.names import MAPPING, SUBMITTED_MAP_TOPIC
+from courseworks.names import MAPPING
+from lab_grader.courses import submitted_map_topic
 from lab_grader.publishers import Publisher
 from nav_msgs.msg import OccupancyGrid
 from rclpy.logging import LoggingSeverity
@@ -17,7 +18,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.serialization import deserialize_message
 from simple_robot_control.bag_recording import BagRecording
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.occupancy_map import load_map, MapError, OccupancyMap
+from simple_robot_control.occupancy_map import load_map, MapError, MAX_CELLS, OccupancyMap
 from std_msgs.msg import String
 from stdr_lite.core.loading import map_file
 from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
@@ -38,6 +39,7 @@ MAP_HISTORY = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
 # What a map's message may hold beyond its cells (header, frame, geometry).
 MAP_HEADER_BYTES = 4096
+FINER = 4
 MAX_BAG_BYTES = 512 << 20
 # The simulator's topics, which nothing else may publish on during a run.
 SIMULATOR_TOPICS = ('/clock', '/map', '/tf', '/tf_static')
@@ -78,11 +80,14 @@ class GradingRecorder(GuardedNode):
                                   self._on_status, STATUS_HISTORY)
         # A mapping submission's map: the last one is judged (kept serialised until then).
         self._last_map = self._map_refused = None
+        self._map_topic = submitted_map_topic(course)
         if course.task == MAPPING:
             world = load_map(map_file(course.map_file))
-            self._map_limit = world.width * world.height + MAP_HEADER_BYTES
+            # A map up to 4 times finer than the world's is judged too (on_world_cells).
+            self._map_limit = (min(FINER * FINER * world.width * world.height, MAX_CELLS)
+                               + MAP_HEADER_BYTES)
             self._world_size = f'{world.width}x{world.height}'
-            self.recording.record_now(SUBMITTED_MAP_TOPIC, 'nav_msgs/msg/OccupancyGrid',
+            self.recording.record_now(self._map_topic, 'nav_msgs/msg/OccupancyGrid',
                                       MAP_QOS, self._on_map, MAP_HISTORY, self._map_fits)
 
     def _map_fits(self, data):
@@ -93,8 +98,9 @@ class GradingRecorder(GuardedNode):
             self._last_map, self._map_refused = data, None
         else:
             self._last_map, self._map_refused = None, (
-                f'{len(data):,} bytes on {SUBMITTED_MAP_TOPIC}, more than a map of the '
-                f"world's {self._world_size} cells takes: refused as it came")
+                f'{len(data):,} bytes on {self._map_topic}, more than a map of the '
+                f"world's {self._world_size} cells at {FINER} times finer takes: refused as it "
+                'came')
 
     @property
     def bag_truncated(self) -> str:
@@ -109,7 +115,7 @@ class GradingRecorder(GuardedNode):
             return None
         try:
             return OccupancyMap.from_grid_message(
-                deserialize_message(self._last_map, OccupancyGrid), SUBMITTED_MAP_TOPIC)
+                deserialize_message(self._last_map, OccupancyGrid), self._map_topic)
         except MapError as error:
             return str(error)
 

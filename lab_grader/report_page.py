@@ -19,7 +19,12 @@ LAB_ROBOT_RADIUS = 0.2
 
 
 def draw_course(verdict) -> str:
-    """Draw a judged course's run as run.png beside its bag; return why not, or ''."""
+    """
+    Draw a judged course's run as run.png beside its bag; return why not, or ''.
+
+    A mapping or exploration course also gets task.png: its judge's reading of the world's
+    cells (task_picture.py).
+    """
     course, folder, run = verdict.course, verdict.folder, verdict.run
     if run is None or not len(run.times):
         return 'no true path was recorded'
@@ -32,6 +37,9 @@ def draw_course(verdict) -> str:
         render_run(run, occupancy_map, radius, folder / 'run.png',
                    f'{course.name}: {MARKS[verdict.status]}, the true path and the poses '
                    'reported')
+        if verdict.task_picture is not None:
+            from lab_grader.task_picture import render_task_picture
+            render_task_picture(verdict.task_picture, run.poses[:, :2], folder / 'task.png')
     except (MapError, RobotFileError, OSError, ValueError) as error:
         return f'no picture: {error}'
     return ''
@@ -56,10 +64,11 @@ def markdown_report(submissions, command, settings_line, report_folder: Path) ->
 def _course_section(verdict, report_folder, nested):
     heading = '###' if nested else '##'
     lines = [f'{heading} {verdict.course.name}: {MARKS[verdict.status]}', '']
-    if verdict.folder is not None and (verdict.folder / 'run.png').is_file():
-        picture = (verdict.folder / 'run.png').relative_to(report_folder)
-        lines += [f'![{verdict.course.name}]({picture.as_posix()})', '']
-    elif verdict.picture_problem:
+    for name in ('run.png', 'task.png'):
+        if verdict.folder is not None and (verdict.folder / name).is_file():
+            picture = (verdict.folder / name).relative_to(report_folder)
+            lines += [f'![{verdict.course.name}]({picture.as_posix()})', '']
+    if verdict.picture_problem:
         lines += [f'({verdict.picture_problem})', '']
     lines += [f'(run.mcap: {note})' for note in verdict.notes] + ([''] if verdict.notes else [])
     lines += ['| check | result | evidence |', '|---|---|---|']

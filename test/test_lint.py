@@ -15,7 +15,7 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 SOURCES = [str(REPOSITORY / name) for name in
            ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
             'lab_grader', 'courseworks', 'coursework_answers', 'test',
-            'bench', 'launch', 'scripts', 'setup.py')
+            'bench', 'launch', 'scripts', 'examples', 'setup.py')
            if (REPOSITORY / name).exists()]
 
 

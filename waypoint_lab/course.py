@@ -29,7 +29,8 @@ class Course:
     map_file and robot_file are empty for the bundled lab_room and lab robot; max_time and
     max_path_length, when set, are graded limits; waypoint_file and settings_file say where the
     course was read from, if from files. task names what the course asks (the lab's waypoints,
-    or a coursework's), thresholds that task's limits as (name, value) pairs.
+    or a coursework's), thresholds that task's limits as (name, value) pairs; map_topic where a
+    mapping submission publishes its map ('' for the task's own).
     """
 
     name: str
@@ -47,6 +48,7 @@ class Course:
     settings_file: Path | None = field(default=None, compare=False)
     task: str = WAYPOINTS_TASK
     thresholds: tuple[tuple[str, float], ...] = ()
+    map_topic: str = ''
 
 
 def goal_error(x: float, y: float, theta: float, goal_x: float, goal_y: float,

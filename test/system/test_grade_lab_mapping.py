@@ -1,6 +1,9 @@
 """grade_lab on the mapping and exploration courseworks: the answers pass, cheats fail."""
 
+import os
 from pathlib import Path
+import re
+import shutil
 import sys
 
 from grade_runs import grade
@@ -12,6 +15,8 @@ from test_grade_lab import verdicts
 pytestmark = pytest.mark.xdist_group('grade_lab_mapping')
 
 COPIER = Path(__file__).resolve().parents[1] / 'controllers' / 'map_copier.py'
+PORTED_MAPPER = Path(__file__).resolve().parents[2] / 'examples' / 'porting' / 'coarse_mapper.py'
+VENV_BIN = str(Path(sys.executable).parent)
 # The factory's run (190 s of sim time, a third of the suite's budget for this test) is graded
 # by hand before each release; the two smaller worlds here.
 SCENARIOS = ('plus_room_mapping', 'simple_walls_mapping')
@@ -26,6 +31,17 @@ def reference_script(*parameters):
             'code=$?\nkill -INT $mapper\nwait $mapper\nexit $code\n')
 
 
+def porting_script():
+    """
+    Return doc/porting.md's run.sh, as printed: the ported mapper beside the reference planner.
+
+    It names the nodes as a user with the venv active does: the venv's bin goes first on PATH.
+    """
+    page = (Path(__file__).resolve().parents[2] / 'doc' / 'porting.md').read_text()
+    [script] = re.findall(r'```sh\n#!/bin/sh\n(.*?)```', page, re.DOTALL)
+    return script
+
+
 def write_groups(folder, scripts):
     for group, script in scripts.items():
         (folder / group).mkdir(parents=True)
@@ -37,28 +53,36 @@ def write_groups(folder, scripts):
 @pytest.fixture(scope='module')
 def graded(tmp_path_factory):
     """
-    Grade the mapping reference and a map copier on SCENARIOS; the explorer and one standing still.
+    Grade mappers on SCENARIOS, explorers on the plus room; give the results and reports.
 
-    The copier publishes the world's map file and ends, having driven nowhere: on the
-    exploration scenario it stands for an explorer that stands still.
+    The mappers: the reference, doc/porting.md's ported one, a map copier and one sending a
+    map far larger than the world. The copier publishes the world's map file and ends, having
+    driven nowhere: on the exploration scenario it stands for an explorer that stands still.
     """
     root = tmp_path_factory.mktemp('mapping')
     copier = f'exec {sys.executable} {COPIER}\n'
     gradings = (
         (write_groups(root / 'mapping', {'reference': reference_script(),
                                          'copies_map': copier,
+                                         'coarse_mapper': porting_script(),
                                          'huge_map': copier.replace('\n', ' --huge\n')}),
          SCENARIOS),
         (write_groups(root / 'exploration', {
             'explorer': reference_script('explore_for:=3600.0'), 'stands_still': copier}),
          ('plus_room_exploration',)))
+    shutil.copy(PORTED_MAPPER, root / 'mapping' / 'coarse_mapper')
     results = {}
-    for groups, scenarios in gradings:
-        results[groups.name] = grade(
-            '--courses', *(shared_file('scenarios', f'{name}.txt') for name in scenarios),
-            '--submissions', groups, '--jobs', 3, '--lockstep', '--real-time-factor', 0,
-            '--report', root / 'report' / groups.name, '--', './run.sh', '@', '{waypoints}',
-            cwd=root, timeout=900)
+    path = os.environ['PATH']
+    os.environ['PATH'] = f'{VENV_BIN}:{path}'
+    try:
+        for groups, scenarios in gradings:
+            results[groups.name] = grade(
+                '--courses', *(shared_file('scenarios', f'{name}.txt') for name in scenarios),
+                '--submissions', groups, '--jobs', 3, '--lockstep', '--real-time-factor', 0,
+                '--report', root / 'report' / groups.name, '--', './run.sh', '@',
+                '{waypoints}', cwd=root, timeout=900)
+    finally:
+        os.environ['PATH'] = path
     return results, root / 'report'
 
 
@@ -69,6 +93,14 @@ def test_the_reference_mapper_and_planner_pass_the_scenarios(graded, course):
     failed = {name: evidence for name, (passed, evidence) in checks.items() if not passed}
     assert not failed and f'reference / {course}: PASS' in results['mapping'].stdout
     assert checks['mapping'][0]
+
+
+@pytest.mark.parametrize('course', SCENARIOS)
+def test_a_mapper_written_the_stdr_way_at_a_quarter_metre_passes(graded, course):
+    """doc/porting.md's mapper: static_map at start, 0.25 m cells over the world's 0.05 m."""
+    _, report = graded
+    passed, evidence = verdicts(report / 'mapping', 'coarse_mapper', course)['mapping']
+    assert passed, evidence
 
 
 def test_a_map_copied_from_the_map_file_fails_as_not_built_from_the_laser(graded):
@@ -82,7 +114,8 @@ def test_a_map_larger_than_the_world_is_refused_as_it_comes(graded):
     _, report = graded
     passed, evidence = verdicts(report / 'mapping', 'huge_map', 'plus_room_mapping')['mapping']
     assert not passed and '16,000,104 bytes on /coursework_map' in evidence
-    assert "more than a map of the world's 300x300 cells takes: refused as it came" in evidence
+    assert ("more than a map of the world's 300x300 cells at 4 times finer takes: refused as "
+            'it came') in evidence
     bag = report / 'mapping' / 'huge_map' / 'plus_room_mapping' / 'run.mcap'
     assert bag.stat().st_size < 4 << 20, 'the refused map is not in the bag either'
 

@@ -51,6 +51,12 @@ def test_a_courses_yaml_sets_its_world_limits_and_points(tmp_path):
     assert find_courses([path], Course('', (), time_limit=99.0))[0].points == 2.5
 
 
+def test_a_mapping_course_may_name_where_its_map_is_read(tmp_path):
+    course = read_course(write(tmp_path, 'c', settings='task: mapping\nmap_topic: built/map\n'))
+    assert course.map_topic == '/built/map'
+    assert read_course(write(tmp_path, 'd', settings='task: mapping\n')).map_topic == ''
+
+
 def test_the_bundled_map_is_known_by_name(tmp_path):
     course = read_course(write(tmp_path, 'c', settings='map: lab_room\n'))
     assert course.map_file == shared_file(*BUNDLED_MAP)
@@ -62,11 +68,14 @@ def test_the_bundled_map_is_known_by_name(tmp_path):
     ('start: [1, 2, .inf]\n', 'c.yaml: start theta (degrees) must be in [-3600, 3600]'),
     ('time_limit: 0\n', 'c.yaml: time_limit must be in [1, 86400], got 0'),
     ('points: -1\n', 'c.yaml: points must be in [0, 1000000], got -1'),
-    ('map: nowhere.yaml\n', "c.yaml: map 'nowhere.yaml' is neither a file beside it nor a "
-     'bundled one (factory, lab_room, plus_room, simple_walls)'),
+    ('map: nowhere.yaml\n', "c.yaml: map 'nowhere.yaml': no such file beside it"),
+    ('map: factory.yaml\n', "c.yaml: map 'factory.yaml': no such file beside it"),
+    ('map: nowhere\n', "c.yaml: map 'nowhere' is no bundled map (factory, lab_room, plus_room, "
+     "simple_walls); a file of the course's is named with its suffix (nowhere.yaml)"),
     ('- a list\n', 'c.yaml: course settings must be a mapping of fields'),
     ('a: [\n', 'c.yaml:2: course settings is not valid YAML'),
     ('distance_tolerance: yes\n', 'distance_tolerance must be in (0, 10], got True'),
+    ('map_topic: my map\n', "map_topic must be a topic name (ROS names joined by '/'"),
 ])
 def test_a_bad_setting_is_one_line_naming_the_file_and_field(tmp_path, settings, complaint):
     with pytest.raises(CourseError) as raised:
@@ -92,7 +101,7 @@ def hostile_course(folder, kind):
     """Write a course whose YAML names a file a course must not: outside, or no regular file."""
     bundled = Path(shared_file(*BUNDLED_MAP))
     settings = {'absolute': 'map: /etc/passwd\n', 'climbing': 'map: ../../etc/passwd\n',
-                'robot': 'robot: /etc/passwd\n', 'folder': 'map: maps\n',
+                'robot': 'robot: /etc/passwd\n', 'folder': 'map: maps/\n',
                 'zero image': 'map: room.yaml\n', 'fifo image': 'map: room.yaml\n',
                 'link out': 'map: room.yaml\n', 'bad map': 'map: room.yaml\n'}[kind]
     path = write(folder, 'c', settings=settings)
@@ -114,7 +123,7 @@ def hostile_course(folder, kind):
     ('absolute', "map '/etc/passwd' leads outside the course's folder (/etc/passwd)"),
     ('climbing', "map '../../etc/passwd' leads outside the course's folder"),
     ('robot', "robot '/etc/passwd' leads outside the course's folder"),
-    ('folder', "map 'maps' is no regular file (a folder, a FIFO, a device or nothing)"),
+    ('folder', "map 'maps/' is no regular file (a folder, a FIFO or a device)"),
     ('zero image', "image '/dev/zero' leads outside the course's folder"),
     ('fifo image', "image 'fifo.pgm' is no regular file"),
     ('link out', "map 'room.yaml' leads outside the course's folder"),
