@@ -6,8 +6,10 @@ sandbox.py. With namespaces, the reaper's own child is the first process of a ne
 mount namespace (its network namespace is the course's already, inherited from grade_lab's
 thread), and there, before the command starts:
 
-- /tmp is a tmpfs of `disk_mb`, the only place the submission can write: its home `/tmp/work`
-  (the files of `copy_in` written there), /dev/shm and /var/tmp are folders of it;
+- /dev/shm is a tmpfs of `disk_mb`, the only place the submission can write: /tmp is the host's
+  /tmp seen through an overlay whose changes go there (what it may read of the host's /tmp, as
+  any user may, it still reads; what it writes stays its own), /var/tmp a folder of it, and its
+  home `/tmp/work` holds the files of `copy_in`;
 - each folder of `cover` (one a uid other than root cannot pass, such as /root, holding the
   interpreter) is an empty tmpfs, and the paths of `expose` (those, and the submission's folder
   when it is below /tmp) are bound into the new tree again, read-only;
@@ -64,13 +66,15 @@ def build_file_system(jail: dict) -> None:
     # What is exposed again is held open now: once covered, its path no longer leads to it.
     exposed = [(path, os.open(path, os.O_PATH | os.O_CLOEXEC)) for path in jail['expose']]
     files = {name: Path(source).read_bytes() for name, source in jail['copy_in'].items()}
-    _mount('tmpfs', '/tmp', 'tmpfs', MS_NOSUID | MS_NODEV,
+    _mount('tmpfs', '/dev/shm', 'tmpfs', MS_NOSUID | MS_NODEV,
            f'size={jail["disk_mb"]}m,mode=1777')
-    for folder, target in (('.shm', '/dev/shm'), ('.var_tmp', '/var/tmp')):
-        os.mkdir(f'/tmp/{folder}', 0o1777)
-        os.chmod(f'/tmp/{folder}', 0o1777)
-        if os.path.isdir(target):
-            _mount(f'/tmp/{folder}', target, None, MS_BIND)
+    for folder, mode in (('.tmp', 0o1777), ('.var_tmp', 0o1777), ('.overlay_work', 0o700)):
+        os.mkdir(f'/dev/shm/{folder}', mode)
+        os.chmod(f'/dev/shm/{folder}', mode)
+    _mount('overlay', '/tmp', 'overlay', MS_NOSUID | MS_NODEV,
+           'lowerdir=/tmp,upperdir=/dev/shm/.tmp,workdir=/dev/shm/.overlay_work')
+    if os.path.isdir('/var/tmp'):
+        _mount('/dev/shm/.var_tmp', '/var/tmp', None, MS_BIND)
     for folder in jail['cover']:
         _mount('tmpfs', folder, 'tmpfs', MS_NOSUID | MS_NODEV, 'size=4k,mode=0755')
     for path, descriptor in exposed:

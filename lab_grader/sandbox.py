@@ -6,9 +6,9 @@ Two ways (grade_lab --sandbox; the one a grading got is printed once at its star
 - `namespaces` (root, where the kernel lets root make namespaces): the course has a network
   namespace holding only loopback (grade_lab's thread of the course enters it, so its recorder,
   the simulator and the submission meet there and nowhere else); the submission runs as a uid
-  of its own, without capabilities, in its own process and mount namespaces, with its own
-  /tmp, /dev/shm and /var/tmp (one tmpfs of --disk MB, its only writable place), the courses
-  and reports hidden (jail.py);
+  of its own, without capabilities, in its own process and mount namespaces, its writes to
+  /tmp, /dev/shm and /var/tmp its own (one tmpfs of --disk MB, its only writable place), the
+  courses and reports hidden (jail.py);
 - `same user` (grade_lab not root, or the kernel refuses namespaces, as Docker's default seccomp
   profile does): the submission runs as grade_lab's user; doc/grading.md says what then holds.
 
@@ -119,12 +119,10 @@ class UidPool:
 
 
 def untraversable_ancestor(path: str) -> str | None:
-    """Return the first folder above path that other users cannot pass (not /tmp's), or None."""
+    """Return the first folder above path that other users cannot pass, or None."""
     parts = Path(path).parts
     for end in range(2, len(parts)):
         folder = str(Path(*parts[:end]))
-        if folder == '/tmp' or folder.startswith('/tmp/'):
-            return None
         try:
             if not os.stat(folder).st_mode & stat.S_IXOTH:
                 return folder
@@ -175,7 +173,7 @@ class SandboxPolicy:
         cover = sorted({folder for path in needed
                         if (folder := untraversable_ancestor(path)) is not None})
         expose = [path for path in dict.fromkeys(needed)
-                  if path.startswith('/tmp/') or any(_within(path, folder) for folder in cover)]
+                  if any(_within(path, folder) for folder in cover)]
         return {'uid': uid, 'cwd': os.path.realpath(cwd), 'disk_mb': self.disk_mb,
                 'processes': self.processes, 'hide': list(self.hidden), 'cover': cover,
                 'expose': expose, 'copy_in': copy_in}

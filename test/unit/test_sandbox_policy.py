@@ -1,34 +1,39 @@
 """What a sandbox hides, shows and refuses, decided before any submission runs (sandbox.py)."""
 
 import os
+from pathlib import Path
+import shutil
+import tempfile
 
 from lab_grader.sandbox import (choose_mode, NAMESPACES, SAME_USER, SandboxPolicy, UID_RANGE,
                                 UidPool, untraversable_ancestor)
 
 
-def test_a_folder_others_cannot_pass_is_found_above_a_path(tmp_path):
-    closed = tmp_path.parent / f'{tmp_path.name}-closed'
-    (closed / 'inside' / 'deeper').mkdir(parents=True)
-    closed.chmod(0o700)
+def test_a_folder_others_cannot_pass_is_found_above_a_path():
+    top = Path(tempfile.mkdtemp(prefix='sandbox-policy-', dir='/tmp'))
     try:
-        path = str(closed / 'inside' / 'deeper')
-        # Below /tmp nothing is covered: the sandbox's /tmp is its own, rebuilt passable.
-        expected = None if path.startswith('/tmp/') else str(closed)
-        assert untraversable_ancestor(path) == expected
+        top.chmod(0o755)
+        closed = top / 'closed'
+        (closed / 'inside' / 'deeper').mkdir(parents=True)
+        closed.chmod(0o700)
+        assert untraversable_ancestor(str(closed / 'inside' / 'deeper')) == str(closed)
+        assert untraversable_ancestor(str(top / 'closed')) is None
         assert untraversable_ancestor('/usr/lib') is None
     finally:
-        closed.chmod(0o755)
+        shutil.rmtree(top)
 
 
 def test_the_interpreter_under_a_closed_home_is_covered_and_shown_again(tmp_path):
     policy = SandboxPolicy(NAMESPACES, hidden=('/srv/courses',), needed=('/root/.pyenv/x',))
     group = tmp_path / 'group'
     group.mkdir()
+    closed = untraversable_ancestor(str(group))  # pytest's own folder is 0700
     jail = policy.jail(2_000_000_001, str(group), {'waypoints.txt': '/somewhere'})
     closed_root = not os.stat('/root').st_mode & 0o001
-    assert jail['cover'] == (['/root'] if closed_root else [])
+    assert jail['cover'] == sorted(({'/root'} if closed_root else set())
+                                   | ({closed} if closed else set()))
     assert ('/root/.pyenv/x' in jail['expose']) == closed_root
-    assert str(group) in jail['expose'], 'a folder below /tmp is shown in the new /tmp'
+    assert (str(group) in jail['expose']) == bool(closed), 'shown again below a closed folder'
     assert (jail['uid'], jail['hide'], jail['copy_in']) == (
         2_000_000_001, ['/srv/courses'], {'waypoints.txt': '/somewhere'})
 
