@@ -24,6 +24,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import LaserScan
 
 CELL = 0.25
+MAX_POSE_GAP_NS = 30_000_000
 # ROS 1's latched publisher is a transient-local, reliable one in ROS 2.
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -46,11 +47,14 @@ class CoarseMapper(Node):
         self.rows = math.ceil(info.height * info.resolution / CELL)
         self.hits = np.zeros((self.rows, self.columns), dtype=np.int32)
         self.passes = np.zeros((self.rows, self.columns), dtype=np.int32)
-        self.poses = deque(maxlen=200)  # (stamp in ns, pose): four seconds of odometry
+        # (stamp in ns, pose): a minute of odometry, as a scan may be counted well after it came.
+        self.poses = deque(maxlen=3000)
         self.scans = 0
         self.publisher = self.create_publisher(OccupancyGrid, '/coursework_map', LATCHED)
-        self.create_subscription(Odometry, f'/{robot}/odom', self.on_odometry, 10)
-        self.create_subscription(LaserScan, f'/{robot}/laser_0', self.on_scan, 10)
+        self.create_subscription(Odometry, f'/{robot}/odom', self.on_odometry, 100)
+        # Deep enough to miss no scan while a burst is counted (in lockstep the simulator runs as
+        # fast as the controller answers, not as fast as this mapper).
+        self.create_subscription(LaserScan, f'/{robot}/laser_0', self.on_scan, 100)
 
     def on_odometry(self, message):
         orientation = message.pose.pose.orientation
@@ -58,33 +62,33 @@ class CoarseMapper(Node):
             message.pose.pose.position.x, message.pose.pose.position.y,
             2.0 * math.atan2(orientation.z, orientation.w))))
 
-    def cell(self, x, y):
-        return (math.floor((y - self.origin[1]) / CELL),
-                math.floor((x - self.origin[0]) / CELL))
+    def count(self, counts, xs, ys):
+        """Add one to the cell of each point (x, y) that lies on the grid."""
+        rows = np.floor((ys - self.origin[1]) / CELL).astype(int)
+        columns = np.floor((xs - self.origin[0]) / CELL).astype(int)
+        inside = (rows >= 0) & (rows < self.rows) & (columns >= 0) & (columns < self.columns)
+        np.add.at(counts, (rows[inside], columns[inside]), 1)
 
     def on_scan(self, scan):
         if not self.poses:
             return
         stamp = stamp_ns(scan)
-        _, (x, y, theta) = min(self.poses, key=lambda entry: abs(entry[0] - stamp))
-        for index in range(0, len(scan.ranges), 4):
-            distance = scan.ranges[index]
-            if not scan.range_min <= distance <= scan.range_max:
-                continue
-            angle = theta + scan.angle_min + index * scan.angle_increment
-            wall = distance < scan.range_max
-            # Every half cell along the ray is free, but the last: a wall where the ray ended.
-            steps = int(distance / (CELL / 2))
-            for step in range(steps):
-                row, column = self.cell(x + step * CELL / 2 * math.cos(angle),
-                                        y + step * CELL / 2 * math.sin(angle))
-                if 0 <= row < self.rows and 0 <= column < self.columns:
-                    self.passes[row, column] += 1
-            if wall:
-                row, column = self.cell(x + distance * math.cos(angle),
-                                        y + distance * math.sin(angle))
-                if 0 <= row < self.rows and 0 <= column < self.columns:
-                    self.hits[row, column] += 1
+        when, (x, y, theta) = min(self.poses, key=lambda entry: abs(entry[0] - stamp))
+        if abs(when - stamp) > MAX_POSE_GAP_NS:
+            return  # no odometry of its time: placed anywhere, it would draw false walls
+        ranges = np.asarray(scan.ranges, dtype=float)
+        angles = theta + scan.angle_min + np.arange(len(ranges)) * scan.angle_increment
+        # REP-117: +inf is no return within range_max (free all along), -inf too close to tell.
+        reach = np.where(np.isposinf(ranges), scan.range_max, ranges)
+        usable = np.isfinite(reach) & (reach >= scan.range_min)
+        reach, angles, wall = reach[usable], angles[usable], np.isfinite(ranges[usable])
+        # Every half cell along a ray is free, but where it ended on a wall.
+        along = np.arange(0.0, scan.range_max, CELL / 2)
+        crossed = along[np.newaxis, :] < reach[:, np.newaxis]
+        cosines, sines = np.cos(angles)[:, np.newaxis], np.sin(angles)[:, np.newaxis]
+        self.count(self.passes, (x + along * cosines)[crossed], (y + along * sines)[crossed])
+        self.count(self.hits, x + reach[wall] * cosines[wall, 0],
+                   y + reach[wall] * sines[wall, 0])
         self.scans += 1
         if self.scans % 10 == 0:
             self.publish()
