@@ -207,8 +207,9 @@ class Grading:
         try:
             evidence = run_course(course, settings, folder, self.stopping)
         except OSError as error:
+            # Its folder in the report, or its namespaces: the machine's doing, not the group's.
             evidence = RunEvidence(ProcessOutcome(start_error='not run'), folder / 'run.mcap',
-                                   f'the report folder refused the run: {error.strerror}')
+                                   f'the run could not be set up: {error}')
         with self._guarding:
             evidence.fouls += tuple(self.guard.check())
         verdict = grade_course(course, evidence, self.options.robot_name)
