@@ -113,7 +113,6 @@ class _Run:
         # What the recorder leaves once taken down: the statuses, and why the bag failed if so.
         self.recorder_statuses, self.recorder_failure, self.bag_note = [], '', ''
         self.recorder_map = None
-        self.submission_pids = set()
         self._last_heard = (time.monotonic(), 0)
         self._watched_at = 0.0
 
@@ -145,7 +144,6 @@ class _Run:
             return
         self._watched_at = time.monotonic()
         recorder = self.recorder
-        self.submission_pids |= self.submission.pids()
         outsiders = []
         if self.sandbox.mode != NAMESPACES and (
                 time.monotonic() - self._sockets_at >= SOCKETS_PERIOD):

@@ -30,7 +30,7 @@ from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
 from lab_grader.run_environment import (course_environment, PLACEHOLDER, RunSettings,
-                                        submission_environment)
+                                        SEALED_DDS, submission_environment)
 from lab_grader.sandbox import (CHOICES, choose_mode, describe_mode, DISK_MB, NAMESPACES,
                                 needed_paths, SandboxError, SandboxPolicy)
 from lab_grader.submission_process import sandbox_problem
@@ -304,8 +304,7 @@ def sandbox_policy(options, courses, folder, submissions) -> SandboxPolicy:
             folder.chmod(0o700)
     if mode == NAMESPACES:
         # This process makes participants only in its courses' namespaces (course_run.py).
-        os.environ.update(course_environment(0, sealed=True))
-        del os.environ['ROS_DOMAIN_ID']
+        os.environ.update(SEALED_DDS)
     sandbox = SandboxPolicy(mode, tuple(sorted(hidden)), needed_paths(os.environ), options.disk,
                             why=why)
     for _, cwd in submissions:

@@ -21,6 +21,8 @@ from simple_robot_control.share import installed_executable, shared_file
 import yaml
 
 PLACEHOLDER = '{waypoints}'
+# How DDS runs in a course's network namespace, whose only network is its loopback.
+SEALED_DDS = {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET', 'FASTDDS_BUILTIN_TRANSPORTS': 'UDPv4'}
 # What the submission's environment keeps of the grader's: what finds programs, libraries and
 # ROS, the language, and the run's ROS settings (course_environment).
 SUBMISSION_VARIABLES = frozenset((
@@ -43,8 +45,7 @@ def course_environment(domain_id: int, sealed: bool = False) -> dict:
     environment.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE',
                            shared_file('config', 'fastdds_quick_discovery.xml'))
     if sealed:
-        environment.update(ROS_AUTOMATIC_DISCOVERY_RANGE='SUBNET',
-                           FASTDDS_BUILTIN_TRANSPORTS='UDPv4')
+        environment.update(SEALED_DDS)
     return environment
 
 

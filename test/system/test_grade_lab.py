@@ -174,7 +174,7 @@ def test_a_full_report_disk_is_one_line_each_and_exit_code_1(tmp_path):
     report.mkdir()
     tmp_path.chmod(0o755)
     command = [executable('grade_lab'), '--courses', str(tmp_path / 'courses'), '--report',
-               str(report), '--', sys.executable, '-c', 'import time; time.sleep(1)',
+               str(report), '--', sys.executable, '-c', 'pass',
                '{waypoints}']
     script = f'mount -t tmpfs -o size=64k tmpfs {report} && exec "$@"'
     result = subprocess.run(['unshare', '--mount', '--propagation', 'private', 'sh', '-c',

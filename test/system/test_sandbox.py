@@ -3,10 +3,10 @@
 import os
 from pathlib import Path
 import sys
-import time
 
 from lab_grader.sandbox import choose_mode, NAMESPACES, needed_paths, SandboxPolicy
 from lab_grader.submission_process import Submission
+from processes import wait_until
 import psutil
 import pytest
 
@@ -27,8 +27,8 @@ kill -9 1 2>/dev/null || echo "first refused"
 grep CapBnd /proc/self/status
 grep NoNewPrivs /proc/self/status
 python3 -c 'print("python runs")'
-setsid python3 -c 'import signal, time; signal.signal(signal.SIGINT, signal.SIG_DFL)
-time.sleep(300)' &
+setsid python3 -c 'import signal; signal.signal(signal.SIGINT, signal.SIG_DFL)
+signal.pause()' &
 """
 
 
@@ -44,10 +44,10 @@ def run_in_sandbox(folder, script):
                        PATH=f'{Path(sys.executable).parent}:/usr/bin:/bin')
     process = Submission(['sh', '-c', script], 'sandbox-test', folder / 'output.txt',
                          cwd=str(folder), env=environment, jail=jail)
-    deadline = time.monotonic() + 30
-    while process.running and time.monotonic() < deadline:
-        time.sleep(0.02)
-    process.stop()
+    try:
+        wait_until(lambda: not process.running, 'the end of the sandboxed script', timeout=30)
+    finally:
+        process.stop()
     policy.uids.give_back(uid)
     return uid, process.exit_code, (folder / 'output.txt').read_text()
 
