@@ -42,12 +42,17 @@ EXPLORATION_MEANINGS = ((UNREACHABLE_SPACE, 'walls, or out of reach', '#d9d9d9')
 
 @dataclass(frozen=True)
 class TaskPicture:
-    """The world's cells as a coursework's judge read them: a code each, and what codes mean."""
+    """
+    The world's cells as a coursework's judge read them: a code each, and what codes mean.
+
+    submitted is the map judged (mapping), drawn beside the reading as it was published.
+    """
 
     world: OccupancyMap
     codes: np.ndarray
     meanings: tuple[tuple[int, str, str], ...]
     title: str
+    submitted: OccupancyMap | None = None
 
 
 def judge_task(course: Course, run: Run, submitted_map: OccupancyMap | str | None = None
@@ -125,7 +130,7 @@ def mapping_check(course: Course, run: Run, submitted: OccupancyMap | str | None
     judgement = judge_map(sight, cells, task_thresholds(MAPPING, course.thresholds), slack)
     picture = TaskPicture(world, map_readings(sight, cells, slack), MAP_MEANINGS,
                           f"{course.name}: the last map, as the judge read it on the world's "
-                          'cells')
+                          'cells', submitted)
     figures = (f'agreement {judgement.agreement:.1%}, coverage {judgement.coverage:.1%}, false '
                f'walls {judgement.false_walls:.1%}, missed walls {judgement.missed_walls:.1%}, '
                f'known beyond sight {judgement.unseen:.1%}')

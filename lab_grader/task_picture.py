@@ -3,8 +3,9 @@ A coursework's cells as its judge read them, drawn as task.png beside a course's
 
 For mapping, each of the world's cells coloured by the judge's reading of the submission's last
 map (agreed, false wall, missed wall, known beyond sight, ...); for exploration, the reachable
-free space seen along the true path and the part never seen; the true path over either. Like
-run_picture.py, matplotlib's object API on the Agg canvas, imported only to draw. No ROS here.
+free space seen along the true path and the part never seen; the true path over either; a
+mapping submission's map, as published, beside its reading. Like run_picture.py,
+matplotlib's object API on the Agg canvas, imported only to draw. No ROS here.
 """
 
 import os
@@ -15,6 +16,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 import numpy as np
+from waypoint_lab.run_picture import draw_map
 
 FIGURE_SIZE = (10.0, 7.5)
 DPI = 100
@@ -23,9 +25,20 @@ DPI = 100
 def render_task_picture(picture: TaskPicture, path_xy: np.ndarray,
                         output_path: str | os.PathLike) -> None:
     """Write a PNG of the judge's reading of each cell, the true path (x, y rows) over it."""
-    figure = Figure(figsize=FIGURE_SIZE, dpi=DPI, layout='constrained')
+    submitted = picture.submitted
+    figure = Figure(figsize=(FIGURE_SIZE[0] * (1.6 if submitted else 1.0), FIGURE_SIZE[1]),
+                    dpi=DPI, layout='constrained')
     FigureCanvasAgg(figure)
-    axes = figure.subplots()
+    if submitted is not None:
+        shown, axes = figure.subplots(1, 2, gridspec_kw={'width_ratios': (1, 1.6)})
+        draw_map(shown, submitted)
+        shown.set_aspect('equal')
+        shown.set_title(f'as published: {submitted.width}x{submitted.height} cells of '
+                        f'{submitted.resolution:g} m')
+        shown.set_xlabel('x [m]')
+        shown.set_ylabel('y [m]')
+    else:
+        axes = figure.subplots()
     codes = [code for code, _, _ in picture.meanings]
     colours = ListedColormap([colour for _, _, colour in picture.meanings])
     index = np.searchsorted(codes, picture.codes)

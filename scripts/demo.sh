@@ -22,7 +22,13 @@ stdr_lite --ros-args "${world[@]}" -p lockstep:="${LOCKSTEP:-true}" \
     -p real_time_factor:="$speed" --log-level warn &
 simulator=$!
 rm -f "$record"
-course_monitor "$course" --ros-args -p bag:="$record" --log-level warn &
+# MONITOR_PARAMETERS: name:=value words for course_monitor (a scenario's map topic to record).
+monitor_parameters=()
+for parameter in ${MONITOR_PARAMETERS:-}; do
+    monitor_parameters+=(-p "$parameter")
+done
+course_monitor "$course" --ros-args -p bag:="$record" "${monitor_parameters[@]}" \
+    --log-level warn &
 monitor=$!
 # Start the controller once the monitor has begun its bag: in lockstep nothing moves until
 # the controller answers, by which time the monitor records the robot's odometry.

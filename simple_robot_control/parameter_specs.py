@@ -54,7 +54,7 @@ class ParameterSpec:
         if self.ros_name:
             words.append('a ROS name')
         if self.topic:
-            words.append('a topic name')
+            words.append('a topic name' + (' or empty' if self.default == '' else ''))
         if self.constraints:
             words.append(self.constraints)
         return '; '.join(words)
@@ -68,7 +68,8 @@ class ParameterSpec:
         if self.ros_name:
             return ros_name_problem(value, self.name)
         if self.topic:
-            return topic_name_problem(value, self.name)
+            # A topic whose default is empty is optional: empty is none.
+            return None if value == '' == self.default else topic_name_problem(value, self.name)
         if isinstance(self.default, list) and not all(is_finite_number(item) for item in value):
             return f'{self.name} must hold finite numbers, got {[compact(v) for v in value]}'
         return None

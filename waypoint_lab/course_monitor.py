@@ -61,7 +61,8 @@ class CourseMonitor(GuardedNode):
         self._started_unseen = False
         self._wall_started = None
         self._progress_shown = False
-        self.recording = (BagRecording(self, params['bag'], RUN_TOPICS, inputs=[path],
+        topics = RUN_TOPICS + ((params['map_topic'],) if params['map_topic'] else ())
+        self.recording = (BagRecording(self, params['bag'], topics, inputs=[path],
                                        send_times=True, course=os.path.basename(path))
                           if params['bag'] else None)
         if self.recording is not None:

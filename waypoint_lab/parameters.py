@@ -63,6 +63,8 @@ COURSE_MONITOR_PARAMETERS = tuple(dataclasses.replace(spec, tunable=False)
     ParameterSpec('bag', '', "record the run's topics (robot_status, the course, odometry, "
                   'ground truth, TF, map, clock) into this rosbag2 bag in MCAP, for plot_run, '
                   'ros2 bag and Foxglove; empty: no record'),
+    ParameterSpec('map_topic', '', "record a coursework's map published here too (a mapper's "
+                  'nav_msgs/OccupancyGrid, for make scenario to judge); empty: none', topic=True),
 )
 
 # A policy acts at the rate and speeds it learned with: those are its task's, not parameters.

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from matplotlib.transforms import Affine2D
 import numpy as np
+from simple_robot_control.occupancy_map import OccupancyMap
 from waypoint_lab.run import Run
 from waypoint_lab.status import STARTED, WAYPOINT
 
@@ -33,7 +34,7 @@ def render_run(run: Run, occupancy_map, robot_radius: float, output_path: str | 
     figure = Figure(figsize=FIGURE_SIZE, dpi=DPI, layout='constrained')
     FigureCanvasAgg(figure)
     axes = figure.subplots()
-    _draw_map(axes, occupancy_map)
+    draw_map(axes, occupancy_map)
     _draw_path(figure, axes, run)
     _draw_waypoints(axes, run.course)
     _draw_reports(axes, run)
@@ -50,11 +51,14 @@ def render_run(run: Run, occupancy_map, robot_radius: float, output_path: str | 
     figure.savefig(output_path, dpi=DPI, format='png')
 
 
-def _draw_map(axes, occupancy_map):
-    """Occupied cells black, unknown grey, free white; row 0 of the map is its bottom edge."""
-    shades = np.full(occupancy_map.cells.shape, 1.0)
-    shades[occupancy_map.cells < 0] = 0.75
-    shades[occupancy_map.occupied] = 0.0
+def draw_map(axes, occupancy_map: OccupancyMap) -> None:
+    """
+    Occupied cells black, free white, a mapper's likelihoods between, unknown grey.
+
+    Row 0 of the map is its bottom edge.
+    """
+    cells = occupancy_map.cells
+    shades = np.where(cells < 0, 0.75, 1.0 - np.clip(cells, 0, 100) / 100.0)
     width, height = occupancy_map.extent
     origin_x, origin_y, yaw = occupancy_map.origin
     placement = Affine2D().rotate(yaw).translate(origin_x, origin_y) + axes.transData

@@ -16,13 +16,15 @@ def scenario(tmp_path, name, **variables):
                  PATH=f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}'))
 
 
-def test_a_planning_scenario_runs_its_reference_answer_to_finished(tmp_path):
-    result = scenario(tmp_path, 'plus_room_planning', REAL_TIME_FACTOR='0')
+def test_a_mapping_scenario_runs_its_reference_answer_and_is_judged(tmp_path):
+    """The run, drawn; then the task's judge: its line, and its reading of every cell."""
+    result = scenario(tmp_path, 'plus_room_mapping', REAL_TIME_FACTOR='0')
     assert result.returncode == 0, result.stdout + result.stderr
     lines = result.stdout.splitlines()
-    assert any(line.startswith('UNREACHABLE 3 ') for line in lines)
     assert 'FINISHED' in lines and 'Traceback' not in result.stderr
-    assert (tmp_path / 'run.png').is_file() and (tmp_path / 'run.mcap').is_file()
+    assert any(line.startswith('mapping: PASS: agreement ') for line in lines), lines
+    for name in ('run.png', 'task.png', 'run.mcap'):
+        assert (tmp_path / name).is_file(), name
 
 
 def test_an_unknown_scenario_is_refused_in_one_line(tmp_path):

@@ -140,3 +140,12 @@ def test_every_node_executable_has_a_parameter_table_that_loads_light():
     result = subprocess.run([sys.executable, '-c', script], capture_output=True, text=True,
                             timeout=60, check=True, cwd='/')
     assert result.stdout.strip() == '[]', result.stdout
+
+
+def test_a_topic_whose_default_is_empty_takes_empty_as_none_and_checks_the_rest():
+    optional = ParameterSpec('map_topic', '', 'a map to record too', topic=True)
+    required = ParameterSpec('map_topic', '/map', 'the map', topic=True)
+    assert optional.problem('') is None and optional.problem('/coursework_map') is None
+    assert optional.problem('/bad topic') is not None and required.problem('') is not None
+    assert 'or empty' in optional.constraint_text()
+    assert 'or empty' not in required.constraint_text()

@@ -106,8 +106,12 @@ def test_the_judges_reading_of_each_cell_is_drawn_for_the_report(mapping, tmp_pa
     invented[sight.seen_free] = 100
     _, wrong = judge_task(course, run, map_of(world, invented))
     assert np.count_nonzero(wrong.codes == FALSE_WALL) > 0
+    assert np.array_equal(wrong.submitted.cells, invented)
     render_task_picture(wrong, run.poses[:, :2], tmp_path / 'task.png')
-    assert (tmp_path / 'task.png').read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+    png = (tmp_path / 'task.png').read_bytes()
+    assert png[:8] == b'\x89PNG\r\n\x1a\n'
+    # The map as published is drawn beside the reading: a picture wider than one panel.
+    assert int.from_bytes(png[16:20], 'big') > int.from_bytes(png[20:24], 'big') * 1.8
     exploration = read_course(shared_file('scenarios', 'plus_room_exploration.txt'))
     _, seen = judge_task(exploration, Run(exploration, run.times, np.tile(
         exploration.start, (len(run.times), 1))))
