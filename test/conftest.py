@@ -10,6 +10,7 @@ process), system (installed executables and the install tree); `pytest test/unit
 
 import os
 from pathlib import Path
+import signal
 
 import pytest
 import rclpy
@@ -26,6 +27,14 @@ os.environ['ROS_DOMAIN_ID'] = str(DOMAIN.domain_id)
 # Peers found within about half a second rather than up to 3 s (see the file).
 os.environ.setdefault('FASTRTPS_DEFAULT_PROFILES_FILE', str(
     Path(__file__).resolve().parents[1] / 'config' / 'fastdds_quick_discovery.xml'))
+
+# A suite started in the background (`make test &`, nohup) inherits SIGINT, SIGQUIT or SIGHUP
+# ignored, and every program it starts would too: the tests send signals to programs started as
+# a terminal starts them, so the dispositions go back to the defaults first.
+for _number in (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP, signal.SIGTERM):
+    if signal.getsignal(_number) == signal.SIG_IGN:
+        signal.signal(_number, signal.default_int_handler if _number == signal.SIGINT
+                      else signal.SIG_DFL)
 
 TIERS = ('unit', 'node', 'system')
 

@@ -34,10 +34,7 @@ class ArenaPicture:
         grid = arena.simulation.occupancy_map
         self.scene = Scene(default_look=RobotLook(arena.simulation.robot(arena.names[0]).radius,
                                                   {arena.laser.frame_id: arena.laser.pose}))
-        shades = np.full(grid.cells.shape, 255, dtype=np.uint8)
-        shades[grid.cells < 0] = 205
-        shades[grid.occupied] = 0
-        self.scene.set_map(shades, grid.resolution, grid.origin[:2])
+        self.scene.set_map(grid.cells, grid.resolution, grid.origin[:2])
         self.view = View(SIZE)
         self.view.fit(self.scene.extent())
         self.painter = Painter(pygame.font.Font(None, 20))
