@@ -83,7 +83,7 @@ test: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest
 
-# A developer's minute: the unit and node tiers on two workers (make test stays the whole suite).
+# A developer's minute: the unit and node tiers (make test stays the whole suite).
 test-quick: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest test/unit test/node

@@ -33,7 +33,7 @@ PLANNER_CONTROLLER_PARAMETERS = RUNNER_PARAMETERS + (
                   'at most this long, then drive the goals (the exploration coursework); 0: '
                   'drive the goals at once [s of odometry time]', Bounds(0.0, 86400.0)),
     ParameterSpec('max_map_age', 0.0, "for a mapper's map: act on a pose only once a map "
-                  'stamped at most this long before it is in (in lockstep the run is then the '
-                  'same on any machine); 0: never wait (a map of no time) [s]',
+                  'stamped at most this long before it is in (in lockstep the robot then never '
+                  'outruns its mapper); 0: never wait (a map of no time) [s]',
                   Bounds(0.0, 60.0)),
 )

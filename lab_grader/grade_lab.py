@@ -4,9 +4,10 @@ grade_lab: the lab's tick-off sheet, automated: grade a controller on hidden cou
     grade_lab --courses DIR_OR_FILES [--jobs N] [--report DIR] [--lockstep]
               -- python3 my_controller.py {waypoints}
 
-Every course runs in isolation (course_run.py) and is judged from its bag (verdicts.py); the
-table goes to the terminal and, with --report, the reports to a folder. With --submissions,
-each folder in it is a group's submission, graded by the same command run in that folder.
+Every course runs in isolation (course_run.py) and is judged from what its recorder heard
+live, never from the bag it writes (verdicts.py); the table goes to the terminal and, with
+--report, the reports to a folder. With --submissions, each folder in it is a group's
+submission, graded by the same command run in that folder.
 Exit code 0 when every course of every submission passes, 1 otherwise, 2 for bad input.
 """
 
@@ -56,9 +57,10 @@ _PR_SET_DUMPABLE = 4
 REAL_TIME_FACTOR = Bounds(0.0, 100.0)
 DESCRIPTION = ('Grade a lab controller on courses it has not seen, as the tick-off sheet '
                'would: each course runs in a ROS domain of its own (stdr_lite, a recorder and '
-               "the submission), and is judged from its bag against the simulator's ground "
-               f'truth: STARTED, each WAYPOINT in order and honest ({RULES}), FINISHED with '
-               'the robot stopped, no wall contact, and a program that ends when asked. Give '
+               'the submission), and is judged from what the recorder heard live against the '
+               f"simulator's ground truth: STARTED, each WAYPOINT in order and honest ({RULES}), "
+               'FINISHED with the robot stopped, no wall contact, and a program that ends when '
+               'asked. Give '
                f"the submission's command after --, with {PLACEHOLDER} where the course's "
                'waypoint file goes.')
 

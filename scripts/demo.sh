@@ -53,7 +53,10 @@ if [ "${VIEWER:-}" = foxglove ]; then
     echo "Foxglove layout of the lab (Layouts, Import from file): $share/config/foxglove_lab_layout.json"
 elif [ -n "${VIEWER:-}" ]; then
     # A window where there is a display; offscreen otherwise, leaving its last frame.
-    [ -n "${DISPLAY:-}" ] || export SDL_VIDEODRIVER=dummy
+    if [ -z "${DISPLAY:-}" ]; then
+        export SDL_VIDEODRIVER=dummy
+        echo 'demo: no display ($DISPLAY is empty): stdr_viewer draws offscreen; its last frame goes to viewer.png'
+    fi
     stdr_viewer --ros-args -p screenshot:=viewer.png --log-level warn &
     viewer=$!
 fi

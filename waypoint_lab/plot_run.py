@@ -1,7 +1,8 @@
 """
 plot_run: draw a recorded run over its map as a PNG (and export it as JSON lines).
 
-The run is read from its bag as grade_lab reads it (run.py) and drawn by run_picture.py.
+The run is read from its bag into the one model of a run (run.py), the one grade_lab judges
+from what it heard, and drawn by run_picture.py.
 """
 
 import json

@@ -107,7 +107,7 @@ def test_the_contract_and_its_tools_need_no_simulator(path):
 
 @pytest.mark.parametrize('path', modules('lab_grader/*.py'), ids=str)
 def test_the_grader_runs_the_simulator_and_reads_only_its_core(path):
-    """The grader starts stdr_lite as a process, as a course would, and judges from bags."""
+    """The grader starts stdr_lite as a process, as a course would, and judges what it heard."""
     assert not [name for name in imported_modules(path)
                 if name.startswith('stdr_lite') and not name.startswith('stdr_lite.core')]
 

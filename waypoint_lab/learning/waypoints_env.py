@@ -3,7 +3,7 @@ waypoint_lab/Waypoints-v0: the lab's assignment as a Gymnasium environment.
 
 A robot of the lab (a 0.2 m disc and its laser) starts somewhere free in a world (the lab's
 room by default) and must reach a course of waypoints' goal sets in turn, as the lab's
-controller must: within d metres, heading within t. course.py gives the observation (the laser,
+controller must: within d metres, heading within t. task.py gives the observation (the laser,
 then the goal as the robot sees it), the action ((linear m/s, angular rad/s) within the speeds
 allowed) and the reward; the episode terminates on reaching the last goal set (FINISHED) and is
 truncated by the step limit of its registration.
