@@ -30,7 +30,7 @@ def executables():
 setup(
     name=PACKAGE_NAME,
     version='0.1.0',
-    packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*',
+    packages=find_packages(include=[PACKAGE_NAME, 'stdr_lite', 'stdr_lite.*', 'foxglove_live',
                                     'waypoint_lab', 'waypoint_lab.*', 'waypoint_controller',
                                     'lab_grader', 'courseworks',
                                     'coursework_answers']),

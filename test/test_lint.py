@@ -13,8 +13,8 @@ import pytest
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 SOURCES = [str(REPOSITORY / name) for name in
-           ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
-            'lab_grader', 'courseworks', 'coursework_answers', 'test',
+           ('simple_robot_control', 'stdr_lite', 'foxglove_live', 'waypoint_lab',
+            'waypoint_controller', 'lab_grader', 'courseworks', 'coursework_answers', 'test',
             'bench', 'launch', 'scripts', 'examples', 'setup.py')
            if (REPOSITORY / name).exists()]
 

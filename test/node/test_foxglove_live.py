@@ -4,6 +4,8 @@ import math
 import time
 
 from bench.foxglove_client import FoxgloveClient
+from foxglove_live.foxglove_live import FoxgloveLive
+from foxglove_live.live_commands import PER_CLIENT
 from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import OccupancyGrid, Odometry
 import pytest
@@ -13,8 +15,6 @@ from ros_helpers import pose_stamped, ServiceCaller, simulator_and_client, spin_
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from simple_robot_control.bag import message_definition
-from simple_robot_control.foxglove_live import FoxgloveLive
-from simple_robot_control.live_commands import PER_CLIENT
 from simulation_interfaces.msg import Result
 from simulation_interfaces.srv import DeleteEntity, SpawnEntity
 from std_msgs.msg import String

@@ -10,13 +10,13 @@ import sys
 import time
 
 from bench.foxglove_client import FoxgloveClient
+from foxglove_live.foxglove_live import connection_line
+from foxglove_live.live_view import exposure_line
 from mcap.reader import make_reader
 from processes import run, start_logged, stop, wait_for_text, wait_until
 import pytest
 from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
-from simple_robot_control.foxglove_live import connection_line
-from simple_robot_control.live_view import exposure_line
 from std_msgs.msg import String
 import yaml
 

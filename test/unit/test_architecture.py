@@ -20,15 +20,15 @@ import pytest
 from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-PACKAGES = ('simple_robot_control', 'stdr_lite', 'waypoint_lab', 'waypoint_controller',
-            'lab_grader', 'courseworks', 'coursework_answers')
+PACKAGES = ('simple_robot_control', 'stdr_lite', 'foxglove_live', 'waypoint_lab',
+            'waypoint_controller', 'lab_grader', 'courseworks', 'coursework_answers')
 PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/viewer/scene.py',
         'simple_robot_control/validation.py', 'simple_robot_control/pose.py',
         'simple_robot_control/input_files.py', 'simple_robot_control/executables.py',
         'simple_robot_control/occupancy_map.py', 'simple_robot_control/command_line.py',
         'simple_robot_control/share.py', 'simple_robot_control/bag.py',
         'simple_robot_control/parameter_specs.py', 'simple_robot_control/early_parameters.py',
-        'simple_robot_control/foxglove_live_parameters.py', 'stdr_lite/node/parameters.py',
+        'foxglove_live/parameters.py', 'stdr_lite/node/parameters.py',
         'stdr_lite/viewer/parameters.py', 'stdr_lite/tools/parameters.py'] + [
     f'waypoint_controller/{name}.py' for name in (
         'control_law', 'pid', 'planner', 'reeds_shepp',
@@ -81,6 +81,7 @@ def packages_imported(path):
 ALLOWED = {
     'simple_robot_control': set(),
     'stdr_lite': {'simple_robot_control'},
+    'foxglove_live': {'simple_robot_control'},
     'waypoint_lab': {'simple_robot_control', 'stdr_lite'},
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
     'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},

@@ -11,11 +11,11 @@ import ipaddress
 import socket
 import sys
 
+from foxglove_live.live_view import BACKLOG, exposure_line, LiveView
+from foxglove_live.parameters import PARAMETERS
 from rclpy.task import Future
 from simple_robot_control.bag_recording import BagRecording
-from simple_robot_control.foxglove_live_parameters import PARAMETERS
 from simple_robot_control.guarded_node import GuardedNode
-from simple_robot_control.live_view import BACKLOG, exposure_line, LiveView
 from simple_robot_control.node_runtime import build_parser, run
 from simple_robot_control.parameters import declare_parameters
 

@@ -38,11 +38,11 @@ import time
 
 import foxglove
 from foxglove.websocket import Capability, StatusLevel
+from foxglove_live.live_commands import CommandChannels
 from rclpy.clock import Clock, ClockType
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, message_definition
 from simple_robot_control.bag_recording import message_class, subscription_qos
-from simple_robot_control.live_commands import CommandChannels
 from simple_robot_control.validation import ConfigError
 
 GRAPH_PERIOD = 0.5
