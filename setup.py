@@ -12,19 +12,27 @@ PACKAGE_NAME = 'simple_robot_control'
 SHARE = f'share/{PACKAGE_NAME}'
 
 
-def executables():
+# The packages that declare executables, each in its executables.py (EXECUTABLES).
+EXECUTABLE_PACKAGES = ('stdr_lite', 'foxglove_live', 'waypoint_lab', 'waypoint_controller',
+                       'lab_grader', 'coursework_answers')
+
+
+def console_scripts():
     """
-    Return the executables' names: the keys of MODULES in simple_robot_control/executables.py.
+    Return a console script for each executable the packages declare, by its package.
 
     Read from the source as text: importing it here would find an installed copy first.
     """
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), PACKAGE_NAME,
-                        'executables.py')
-    with open(path, encoding='utf-8') as source:
-        tree = ast.parse(source.read())
-    table = next(node.value for node in tree.body if isinstance(node, ast.Assign)
-                 and [target.id for target in node.targets] == ['MODULES'])
-    return sorted(ast.literal_eval(table))
+    scripts = []
+    for package in EXECUTABLE_PACKAGES:
+        path = os.path.join(os.path.dirname(os.path.abspath(__file__)), package,
+                            'executables.py')
+        with open(path, encoding='utf-8') as source:
+            tree = ast.parse(source.read())
+        table = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                     and [target.id for target in node.targets] == ['EXECUTABLES'])
+        scripts += [f'{key.value} = {package}.executables:{key.value}' for key in table.keys]
+    return sorted(scripts)
 
 
 setup(
@@ -64,7 +72,6 @@ setup(
     license='Apache-2.0',
     extras_require={'test': ['pytest', 'hypothesis']},
     entry_points={
-        'console_scripts': [f'{name} = {PACKAGE_NAME}.executables:{name}'
-                            for name in executables()],
+        'console_scripts': console_scripts(),
     },
 )

@@ -36,14 +36,15 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from simple_robot_control.occupancy_map import load_map
-from simple_robot_control.share import (BUNDLED_COURSE, BUNDLED_MAP, BUNDLED_ROBOT,
-                                        installed_executable, shared_file)
+from simple_robot_control.share import (BUNDLED_MAP, BUNDLED_ROBOT, installed_executable,
+                                        shared_file)
 from std_msgs.msg import String
 from stdr_lite.core.robot_description import load_robot, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
 from stdr_lite.core.world import PlacementError
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import WaypointController
+from waypoint_lab.rules import BUNDLED_COURSE
 
 RUN_TIMEOUT = 300.0
 # The bare World's target at 1000 robots (issue 41): times real time at 50 Hz.

@@ -25,6 +25,7 @@ import threading
 import time
 import uuid
 
+from lab_grader.domains import claim_domain, NoDomainLeft
 from lab_grader.grading import RunEvidence
 from lab_grader.jail import SANDBOX_HOME
 from lab_grader.publishers import find_intruders, socket_owners, strangers
@@ -40,7 +41,6 @@ import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
-from simple_robot_control.domains import claim_domain, NoDomainLeft
 from simple_robot_control.validation import ConfigError
 
 SIMULATOR_START = 60.0

@@ -18,24 +18,27 @@ import signal
 import sys
 
 HELD = (signal.SIGINT, signal.SIGTERM)
-# The line every console script of the package's holds (setup.py's entry points).
-ENTRY_POINT = b'from simple_robot_control.executables import '
 
 
-def is_package_executable(argv: list[str]) -> bool:
-    """Whether argv (the interpreter's, as started) runs one of the package's console scripts."""
+def is_package_executable(argv: list[str], packages: tuple[str, ...]) -> bool:
+    """
+    Whether argv (the interpreter's, as started) runs one of the package's console scripts.
+
+    Each imports its entry point from one of packages' executables modules (setup.py).
+    """
     if len(argv) < 2:
         return False
     try:
         with open(argv[1], 'rb') as script:
-            return ENTRY_POINT in script.read(1024)
+            head = script.read(1024)
     except OSError:
         return False
+    return any(f'from {package}.executables import '.encode() in head for package in packages)
 
 
-def keep_held_for_package_executables() -> None:
+def keep_held_for_package_executables(packages: tuple[str, ...]) -> None:
     """Keep SIGINT and SIGTERM blocked only if this interpreter runs an executable of ours."""
-    if not is_package_executable(getattr(sys, 'orig_argv', [])):
+    if not is_package_executable(getattr(sys, 'orig_argv', []), packages):
         release_signals()
 
 

@@ -1,55 +1,44 @@
 """
-The entry points of the package's executables, as setup.py installs them.
+How the package's executables start, for each package that declares some.
 
-Each sets quiet handlers for Ctrl-C and SIGTERM before anything heavy is imported (numpy, scipy
-and rclpy take about a second to load), then takes the signals held since the interpreter's
-first lines (early_signals.py), so a signal in that second ends the program with exit code 0
-and no traceback; the node runtime takes the signals over once the node runs. Then the ROS
-parameters of the command line are judged against the node's table (a light module), so a
-bad value is refused in a tenth of a second, before that load. The code of each executable
-lives in the module named after it, listed here with its parameter table.
+Each package declares its executables in its own executables.py: a table of Executable (the
+module that holds its main(), within that package, and its node's parameter table), and the
+entry points, entry_points(table), as its module __getattr__. setup.py installs a console script
+for each, whose entry point is `<package>.executables:<name>`. Each sets quiet handlers for
+Ctrl-C and SIGTERM before anything heavy is imported (numpy, scipy and rclpy take about a second
+to load), then takes the signals held since the interpreter's first lines (early_signals.py),
+so a signal in that second ends the program with exit code 0 and no traceback; the node runtime
+takes the signals over once the node runs. Then the ROS parameters of the command line are
+judged against the node's table (a light module), so a bad value is refused in a tenth of a
+second, before that load.
 """
 
+from dataclasses import dataclass
 from functools import partial
 import importlib
 import os
 import signal
 import sys
+from typing import Callable
 
 from simple_robot_control.early_parameters import early_problem
 from simple_robot_control.early_signals import release_signals
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT
 
-# The one list of the executables: each one's module (setup.py installs a console script for
-# each name, whose entry point is this module's attribute of that name), and its node's parameter
-# table ('module:NAME') where it takes ROS parameters. A literal, which setup.py reads as text.
-MODULES = {
-    'stdr_lite': 'stdr_lite.node.stdr_lite',
-    'stdr_viewer': 'stdr_lite.viewer.stdr_viewer',
-    'move_robot': 'stdr_lite.tools.move_robot',
-    'stdr_ctl': 'stdr_lite.tools.stdr_ctl',
-    'waypoint_controller': 'waypoint_controller.waypoint_controller',
-    'course_monitor': 'waypoint_lab.course_monitor',
-    'plot_run': 'waypoint_lab.plot_run',
-    'record_run': 'waypoint_lab.record_run',
-    'foxglove_live': 'foxglove_live.foxglove_live',
-    'grade_lab': 'lab_grader.grade_lab',
-    'policy_controller': 'waypoint_lab.learning.policy_controller',
-    'planner_controller': 'coursework_answers.planner_controller',
-    'occupancy_mapper': 'coursework_answers.occupancy_mapper',
-}
-PARAMETER_TABLES = {
-    'stdr_lite': 'stdr_lite.node.parameters:PARAMETERS',
-    'stdr_viewer': 'stdr_lite.viewer.parameters:PARAMETERS',
-    'move_robot': 'stdr_lite.tools.parameters:MOVE_ROBOT_PARAMETERS',
-    'waypoint_controller': 'waypoint_controller.parameters:PARAMETERS',
-    'course_monitor': 'waypoint_lab.parameters:COURSE_MONITOR_PARAMETERS',
-    'record_run': 'waypoint_lab.parameters:RECORD_RUN_PARAMETERS',
-    'foxglove_live': 'foxglove_live.parameters:PARAMETERS',
-    'policy_controller': 'waypoint_lab.parameters:POLICY_CONTROLLER_PARAMETERS',
-    'planner_controller': 'coursework_answers.parameters:PLANNER_CONTROLLER_PARAMETERS',
-    'occupancy_mapper': 'coursework_answers.parameters:OCCUPANCY_MAPPER_PARAMETERS',
-}
+
+@dataclass(frozen=True)
+class Executable:
+    """An executable: the module of its main(), and its node's parameter table ('module:NAME')."""
+
+    module: str
+    parameters: str = ''
+
+    def parameter_table(self) -> tuple:
+        """Return the ParameterSpecs of its node; () where it takes none."""
+        if not self.parameters:
+            return ()
+        module, _, table = self.parameters.partition(':')
+        return getattr(importlib.import_module(module), table)
 
 
 def _end_at_once(signal_number, frame):
@@ -60,17 +49,9 @@ def _leave_quietly(signal_number, frame):
     raise SystemExit(0)
 
 
-def parameter_table(name: str) -> tuple:
-    """Return the ParameterSpecs of the executable name's node; () where it takes none."""
-    if name not in PARAMETER_TABLES:
-        return ()
-    module, _, table = PARAMETER_TABLES[name].partition(':')
-    return getattr(importlib.import_module(module), table)
-
-
-def _refuse_early(name):
+def _refuse_early(name, executable):
     """End the program with the node's own refusal of a parameter, where sure of it."""
-    specs = parameter_table(name)
+    specs = executable.parameter_table()
     problem = early_problem(sys.argv, name, specs) if specs else None
     if problem is not None:
         print(f'{name}: error: {problem}', file=sys.stderr)
@@ -83,7 +64,7 @@ def _handle_signals(handler):
         signal.signal(signal_number, handler)
 
 
-def start(name):
+def start(name: str, executable: Executable) -> None:
     """
     Run the executable name: signals first, then its module's main(), then exit at once.
 
@@ -97,8 +78,8 @@ def start(name):
     """
     _handle_signals(_end_at_once)
     release_signals()
-    _refuse_early(name)
-    module = importlib.import_module(MODULES[name])
+    _refuse_early(name, executable)
+    module = importlib.import_module(executable.module)
     _handle_signals(_leave_quietly)
     try:
         code = module.main()
@@ -109,8 +90,10 @@ def start(name):
     os._exit(code if isinstance(code, int) else (0 if code is None else 1))
 
 
-def __getattr__(name: str):
-    """Return the entry point of the executable name, as a console script imports it."""
-    if name not in MODULES:
-        raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
-    return partial(start, name)
+def entry_points(executables: dict[str, Executable]) -> Callable[[str], Callable[[], None]]:
+    """Return a package's module __getattr__: each executable's entry point, by its name."""
+    def entry_point(name: str) -> Callable[[], None]:
+        if name not in executables:
+            raise AttributeError(f'no executable {name!r}')
+        return partial(start, name, executables[name])
+    return entry_point

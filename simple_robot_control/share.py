@@ -7,7 +7,6 @@ import sys
 PACKAGE_NAME = 'simple_robot_control'
 BUNDLED_MAP = ('maps', 'lab_room.yaml')
 BUNDLED_ROBOT = ('robots', 'lab_robot.yaml')
-BUNDLED_COURSE = ('waypoints', 'lab_tour.txt')
 # Files robot files may include by name, in STDR's layout (laser_sensors/, range_sensors/).
 BUNDLED_RESOURCES = ('resources',)
 

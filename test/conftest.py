@@ -12,11 +12,11 @@ import os
 from pathlib import Path
 import signal
 
+from lab_grader.domains import claim_domain
 import pytest
 import rclpy
 from rclpy.context import Context
 from ros_helpers import events_executor
-from simple_robot_control.domains import claim_domain
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_STATIC_PEERS'] = ''

@@ -10,8 +10,9 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.pose import set_pose
-from simple_robot_control.share import BUNDLED_COURSE, shared_file
+from simple_robot_control.share import shared_file
 from simple_robot_control.validation import ConfigError, require
+from waypoint_lab.rules import BUNDLED_COURSE
 from waypoint_lab.waypoints import load_waypoints, WaypointFileError
 
 

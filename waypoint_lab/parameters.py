@@ -10,10 +10,10 @@ import dataclasses
 import math
 
 from simple_robot_control.parameter_specs import ParameterSpec
-from simple_robot_control.share import BUNDLED_COURSE
 from simple_robot_control.validation import Bounds
-from waypoint_lab.rules import (ANGLE_TOLERANCE, COURSE_TOPIC, DISTANCE_TOLERANCE,
-                                MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STATUS_TOPIC)
+from waypoint_lab.rules import (ANGLE_TOLERANCE, BUNDLED_COURSE, COURSE_TOPIC,
+                                DISTANCE_TOLERANCE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
+                                STATUS_TOPIC)
 
 COURSE_PARAMETERS = (
     ParameterSpec('waypoint_file', '', 'waypoint file (x y theta triples: m, m, degrees); '

@@ -13,6 +13,8 @@ ANGLE_TOLERANCE = math.radians(5.0)
 # Where the lab's robot starts (the lab's STDR launch puts robot0 there).
 START = (1.0, 2.0, 0.0)
 TIME_LIMIT = 120.0
+# The course a controller follows when given none: a tour of the lab's room, installed in share.
+BUNDLED_COURSE = ('waypoints', 'lab_tour.txt')
 # The lab's task, by the name a course file gives it (the courseworks add theirs: courseworks).
 WAYPOINTS_TASK = 'waypoints'
 # The speeds the lab's robot is driven at unless a controller is told otherwise: the reference

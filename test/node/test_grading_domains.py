@@ -4,9 +4,9 @@ import threading
 
 from conftest import DOMAIN
 from lab_grader import course_run
+from lab_grader.domains import DomainClaim
 from lab_grader.sandbox import SandboxPolicy
 from rclpy.node import Node
-from simple_robot_control.domains import DomainClaim
 from waypoint_lab.course import Course
 from waypoint_lab.waypoints import Waypoint
 

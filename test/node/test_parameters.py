@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from installed_executables import parameter_table, PARAMETER_TABLES
 from nav_msgs.msg import Odometry
 import pytest
 from rclpy.node import Node
@@ -9,7 +10,6 @@ from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from ros_helpers import overrides, spin_until
 from simple_robot_control.early_parameters import early_problem
-from simple_robot_control.executables import parameter_table, PARAMETER_TABLES
 from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.validation import ConfigError
 from stdr_lite.node.stdr_lite import StdrLite

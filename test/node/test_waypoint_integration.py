@@ -8,12 +8,13 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from ros_helpers import events_executor, overrides, spin_until
 from simple_robot_control.pose import yaw_from_quaternion
-from simple_robot_control.share import BUNDLED_COURSE, shared_file
+from simple_robot_control.share import shared_file
 from simple_robot_control.validation import ConfigError
 from std_msgs.msg import String
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import WaypointController
 from waypoint_lab.course import in_goal_set
+from waypoint_lab.rules import BUNDLED_COURSE
 from waypoint_lab.waypoints import load_waypoints
 
 # The lab tour's robot_status in lockstep, as the README shows it: a change made for speed alone

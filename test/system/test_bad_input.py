@@ -5,11 +5,11 @@ from pathlib import Path
 import subprocess
 import sys
 
+from installed_executables import PARAMETER_TABLES
 from map_fixtures import png_header
 from processes import executable, run
 import pytest
 from run_bags import write_run
-from simple_robot_control.executables import PARAMETER_TABLES
 
 
 @pytest.fixture

@@ -5,16 +5,15 @@ from pathlib import Path
 import subprocess
 import sys
 
+from installed_executables import EXECUTABLES, PARAMETER_TABLES
 import pytest
 
-from simple_robot_control.executables import MODULES, PARAMETER_TABLES
 
 # Its tests share a module-scoped fixture: one worker runs them all (pytest.ini: loadgroup).
 pytestmark = pytest.mark.xdist_group('colcon_install_tree')
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGE = 'simple_robot_control'
-EXECUTABLES = list(MODULES)
 
 
 @pytest.fixture(scope='module')

@@ -11,13 +11,13 @@ lives in a module named after it; each of the lab's numbers is written once.
 """
 
 import ast
-from importlib.metadata import entry_points
+from importlib import import_module
 from pathlib import Path
 import re
 
+from installed_executables import ENTRY_POINTS
 import pytest
 
-from simple_robot_control.executables import MODULES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGES = ('simple_robot_control', 'stdr_lite', 'foxglove_live', 'waypoint_lab',
@@ -39,11 +39,15 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     f'lab_grader/{name}.py' for name in (
         'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision', 'sandbox',
         'jail', 'publishers', 'reaper')] + [
-    'simple_robot_control/bag_reading.py', 'simple_robot_control/domains.py'] + [
+    'simple_robot_control/bag_reading.py', 'lab_grader/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
     'courseworks/*.py'] + [f'coursework_answers/{name}.py' for name in (
         'mapper', 'frontiers', 'planner', 'route_law', 'parameters', 'reference_run')]
+# The packages that declare executables (setup.py's EXECUTABLE_PACKAGES, read from its text).
+EXECUTABLE_PACKAGES = next(
+    ast.literal_eval(node.value) for node in ast.parse((REPOSITORY / 'setup.py').read_text()).body
+    if isinstance(node, ast.Assign) and [t.id for t in node.targets] == ['EXECUTABLE_PACKAGES'])
 ROS_CLIENT = re.compile(r'^(rclpy|rcl_interfaces|[a-z_]+_msgs|launch)(\.|$)')
 
 
@@ -161,11 +165,35 @@ def test_no_module_is_over_400_lines(path):
     assert len(path.read_text().splitlines()) <= 400
 
 
-def test_every_executable_lives_in_a_module_named_after_it():
-    """setup.py installs a console script for each name of MODULES, and for nothing else."""
-    installed = {point.name for point in entry_points(group='console_scripts')
-                 if point.value.startswith('simple_robot_control.executables:')}
-    assert installed == set(MODULES)
-    for executable, module in MODULES.items():
-        assert module.split('.')[-1] == executable
-        assert (REPOSITORY / (module.replace('.', '/') + '.py')).is_file()
+def test_every_executable_lives_in_a_module_named_after_it_in_the_package_declaring_it():
+    """
+    A console script for each executable a package declares, and for nothing else.
+
+    Each package's executables.py names modules of its own only, so the imports it makes by
+    name run no arrow the layout's test cannot see.
+    """
+    declared = {}
+    for package in EXECUTABLE_PACKAGES:
+        for name, executable in import_module(f'{package}.executables').EXECUTABLES.items():
+            declared[name] = f'{package}.executables'
+            assert executable.module.split('.')[0] == package
+            assert executable.module.split('.')[-1] == name
+            assert (REPOSITORY / (executable.module.replace('.', '/') + '.py')).is_file()
+            table = executable.parameters.partition(':')[0]
+            assert not table or table.split('.')[0] == package
+    assert {name: module for name, (module, _) in ENTRY_POINTS.items()} == declared
+
+
+def test_the_early_signals_know_every_package_that_declares_executables():
+    """The .pth holding signals from the first line finds our console scripts by package."""
+    pth = (REPOSITORY / 'resource' / '00_simple_robot_control_signals.pth').read_text()
+    assert pth.count('\n') == 1 and f'{EXECUTABLE_PACKAGES!r}' in pth
+
+
+def test_the_ground_floor_names_no_package_above_it():
+    """Not in an import, nor in a string that importlib would load."""
+    above = set(PACKAGES) - {'simple_robot_control'}
+    for path in modules('simple_robot_control/*.py'):
+        names = {node.value.split('.')[0] for node in ast.walk(ast.parse(path.read_text()))
+                 if isinstance(node, ast.Constant) and isinstance(node.value, str)}
+        assert not names & above, f'{path.relative_to(REPOSITORY)} names {names & above}'

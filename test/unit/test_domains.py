@@ -4,9 +4,9 @@ import os
 import subprocess
 import sys
 
+from lab_grader import domains
+from lab_grader.domains import claim_domain, NoDomainLeft
 import pytest
-from simple_robot_control import domains
-from simple_robot_control.domains import claim_domain, NoDomainLeft
 
 
 @pytest.fixture

@@ -4,8 +4,8 @@ from pathlib import Path
 import re
 import subprocess
 
+from installed_executables import parameter_table, PARAMETER_TABLES
 import pytest
-from simple_robot_control.executables import parameter_table, PARAMETER_TABLES
 from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
 from stdr_lite.core.robot_description import load_robot
 
