@@ -20,7 +20,7 @@ import sys
 import tempfile
 import time
 
-from courseworks.names import REFERENCE_ANSWERS
+from coursework_answers.answers import REFERENCE_ANSWERS
 from lab_grader.courses import find_courses
 from lab_grader.sandbox import choose_mode, NAMESPACES
 from simple_robot_control.share import installed_executable, shared_file

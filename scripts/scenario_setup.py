@@ -15,7 +15,8 @@ stderr and exit code 2 for a scenario that is not one, or a task with no bundled
 from pathlib import Path
 import sys
 
-from courseworks.names import MAPPING, REFERENCE_ANSWERS
+from coursework_answers.answers import REFERENCE_ANSWERS
+from courseworks.names import MAPPING
 from lab_grader.courses import CourseError, read_course, submitted_map_topic, world_parameters
 from simple_robot_control.share import shared_file
 from stdr_lite.core.loading import map_file, robot_file

@@ -43,7 +43,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
     f'waypoint_lab/learning/{name}.py' for name in (
         'task', 'arena', 'waypoints_env', 'vector_env', 'rendering')] + [
     'courseworks/*.py'] + [f'coursework_answers/{name}.py' for name in (
-        'mapper', 'frontiers', 'planner', 'route_law', 'parameters', 'reference_run')]
+        'mapper', 'frontiers', 'planner', 'route_law', 'parameters', 'reference_run', 'answers')]
 # The packages that declare executables (setup.py's EXECUTABLE_PACKAGES, read from its text).
 EXECUTABLE_PACKAGES = next(
     ast.literal_eval(node.value) for node in ast.parse((REPOSITORY / 'setup.py').read_text()).body
