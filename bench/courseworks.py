@@ -21,13 +21,13 @@ import argparse
 import sys
 
 from coursework_answers.reference_run import ReferenceRun, run_reference
+from courseworks.courses import find_courses
 from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
 from courseworks.mapping import judge_map, seen_along_run
 from courseworks.names import EXPLORATION, MAPPING
 from courseworks.planning import clearance_along, judge_planning, plan_legs
 from courseworks.tasks import task_thresholds
-from lab_grader.courses import find_courses
 from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import shared_file
 from stdr_lite.core.robot_description import load_robot

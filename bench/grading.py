@@ -21,7 +21,7 @@ import tempfile
 import time
 
 from coursework_answers.answers import REFERENCE_ANSWERS
-from lab_grader.courses import find_courses
+from courseworks.courses import find_courses
 from lab_grader.sandbox import choose_mode, NAMESPACES
 from simple_robot_control.share import installed_executable, shared_file
 

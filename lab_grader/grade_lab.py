@@ -23,9 +23,9 @@ import sys
 import tempfile
 import threading
 
+from courseworks.courses import (ANGLE_TOLERANCE_DEGREES, course_files, CourseError,
+                                 DISTANCE_TOLERANCE_RANGE, find_courses, TIME_LIMIT_RANGE)
 from lab_grader.course_guard import CourseGuard, CourseGuardError
-from lab_grader.courses import (ANGLE_TOLERANCE_DEGREES, course_files, CourseError,
-                                DISTANCE_TOLERANCE_RANGE, find_courses, TIME_LIMIT_RANGE)
 from lab_grader.grading import grade_course, PASS, RunEvidence, SubmissionVerdict
 from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,

@@ -9,8 +9,8 @@ run is so bounded whatever the submission sends, but for the one message being r
 
 import time
 
+from courseworks.courses import submitted_map_topic
 from courseworks.names import MAPPING
-from lab_grader.courses import submitted_map_topic
 from lab_grader.publishers import Publisher
 from nav_msgs.msg import OccupancyGrid
 from rclpy.logging import LoggingSeverity

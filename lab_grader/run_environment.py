@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import os
 from pathlib import Path
 
-from lab_grader.courses import world_parameters
+from courseworks.courses import world_parameters
 from lab_grader.sandbox import SandboxPolicy
 from simple_robot_control.share import installed_executable, shared_file
 import yaml

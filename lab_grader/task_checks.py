@@ -9,6 +9,7 @@ loaded it (the course's map and robot, the bundled ones where it names none) and
 from dataclasses import dataclass
 import math
 
+from courseworks.courses import submitted_map_topic
 from courseworks.exploration import judge_exploration, reachable_free
 from courseworks.grids import Grid
 from courseworks.mapping import (AGREED, BEYOND_SIGHT, FALSE_WALL, judge_map, map_readings,
@@ -17,7 +18,6 @@ from courseworks.mapping import (AGREED, BEYOND_SIGHT, FALSE_WALL, judge_map, ma
 from courseworks.names import EXPLORATION, MAPPING, PLANNING
 from courseworks.planning import clearance_along, judge_planning, plan_legs
 from courseworks.tasks import task_thresholds
-from lab_grader.courses import submitted_map_topic
 from lab_grader.verdicts import Check
 import numpy as np
 from simple_robot_control.occupancy_map import load_map, OccupancyMap

@@ -12,7 +12,7 @@ controller does, or the simulator, and says how it ended.
 from pathlib import Path
 
 from coursework_answers.answers import REFERENCE_ANSWERS
-from lab_grader.courses import read_course, world_parameters
+from courseworks.courses import read_course, world_parameters
 from launch import LaunchDescription
 from launch.actions import (DeclareLaunchArgument, EmitEvent, LogInfo, OpaqueFunction,
                             RegisterEventHandler)

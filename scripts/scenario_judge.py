@@ -14,7 +14,7 @@ mapper's author. One line on stderr and exit code 2 when the bag or scenario can
 
 import sys
 
-from lab_grader.courses import CourseError, read_course, submitted_map_topic
+from courseworks.courses import CourseError, read_course, submitted_map_topic
 from lab_grader.task_checks import judge_task
 from lab_grader.task_picture import render_task_picture
 from scenario_setup import scenario_file  # beside this script

@@ -16,8 +16,8 @@ from pathlib import Path
 import sys
 
 from coursework_answers.answers import REFERENCE_ANSWERS
+from courseworks.courses import CourseError, read_course, submitted_map_topic, world_parameters
 from courseworks.names import MAPPING
-from lab_grader.courses import CourseError, read_course, submitted_map_topic, world_parameters
 from simple_robot_control.share import shared_file
 from stdr_lite.core.loading import map_file, robot_file
 from stdr_lite.core.robot_description import load_robot

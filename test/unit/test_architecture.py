@@ -37,7 +37,7 @@ PURE = ['stdr_lite/core/*.py', 'stdr_lite/tools/lab_session.py', 'stdr_lite/view
         'course', 'rules', 'parameters', 'waypoints', 'status', 'lifecycle', 'run', 'plot_run',
         'run_picture')] + [
     f'lab_grader/{name}.py' for name in (
-        'courses', 'verdicts', 'grading', 'reports', 'report_page', 'supervision', 'sandbox',
+        'verdicts', 'grading', 'reports', 'report_page', 'supervision', 'sandbox',
         'jail', 'publishers', 'reaper')] + [
     'simple_robot_control/bag_reading.py', 'lab_grader/domains.py'] + [
     f'waypoint_lab/learning/{name}.py' for name in (
@@ -89,7 +89,7 @@ ALLOWED = {
     'waypoint_lab': {'simple_robot_control', 'stdr_lite'},
     'waypoint_controller': {'simple_robot_control', 'waypoint_lab'},
     'lab_grader': {'simple_robot_control', 'stdr_lite', 'waypoint_lab', 'courseworks'},
-    'courseworks': {'simple_robot_control', 'waypoint_lab'},
+    'courseworks': {'simple_robot_control', 'stdr_lite', 'waypoint_lab'},
     'coursework_answers': {'simple_robot_control', 'stdr_lite', 'waypoint_lab',
                            'waypoint_controller', 'courseworks'},
 }
@@ -108,6 +108,13 @@ def test_imports_between_packages_run_down_the_layout(path):
 def test_the_contract_and_its_tools_need_no_simulator(path):
     """Only the lab's Gymnasium task (waypoint_lab/learning) is built on the simulator."""
     assert 'stdr_lite' not in packages_imported(path)
+
+
+@pytest.mark.parametrize('path', modules('courseworks/*.py'), ids=str)
+def test_the_courseworks_read_the_world_as_the_simulations_core_loads_it(path):
+    """Course files and judges read maps and robots by stdr_lite.core, and nothing else of it."""
+    assert not [name for name in imported_modules(path)
+                if name.startswith('stdr_lite') and not name.startswith('stdr_lite.core')]
 
 
 @pytest.mark.parametrize('path', modules('lab_grader/*.py'), ids=str)

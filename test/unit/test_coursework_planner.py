@@ -4,9 +4,9 @@ import math
 
 from coursework_answers.planner import plan_route
 from coursework_answers.reference_run import run_reference
+from courseworks.courses import read_course
 from courseworks.grids import Grid, inflate
 from courseworks.planning import clearance_along
-from lab_grader.courses import read_course
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map

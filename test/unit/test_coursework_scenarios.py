@@ -4,13 +4,13 @@ import importlib.util
 from pathlib import Path
 import re
 
+from courseworks.courses import CourseError, find_courses, read_course
 from courseworks.exploration import ExplorationThresholds
 from courseworks.grids import Grid, inflate
 from courseworks.mapping import MapThresholds
 from courseworks.names import EXPLORATION, MAPPING, PLANNING
 from courseworks.planning import plan_legs, PlanningThresholds
 from courseworks.tasks import task_thresholds
-from lab_grader.courses import CourseError, find_courses, read_course
 import pytest
 from simple_robot_control.occupancy_map import load_map
 from stdr_lite.core.loading import load_world

@@ -5,7 +5,7 @@ import os
 from pathlib import Path
 import shutil
 
-from lab_grader.courses import CourseError, find_courses, read_course
+from courseworks.courses import CourseError, find_courses, read_course
 import pytest
 from simple_robot_control.share import BUNDLED_MAP, shared_file
 from waypoint_lab.course import Course

@@ -1,8 +1,8 @@
 """A coursework's line on grade_lab's sheet, from crafted runs and maps: its judge, one line."""
 
+from courseworks.courses import read_course
 from courseworks.grids import Grid
 from courseworks.mapping import AGREED, FALSE_WALL, seen_along
-from lab_grader.courses import read_course
 from lab_grader.task_checks import judge_task
 from lab_grader.task_picture import render_task_picture
 import numpy as np

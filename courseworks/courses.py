@@ -1,12 +1,13 @@
 """
-The courses a submission is graded on: waypoint files, each with an optional YAML beside it.
+Course files: waypoint files, each with an optional YAML beside it, read and checked whole.
 
 A course is a waypoint file of the lab's format (course.txt). A YAML file of the same name
 (course.yaml) may say where the robot starts, in which world, how long the submission has,
 what the course is worth, which limits are graded, and which task it asks with what
-thresholds (courseworks/tasks.py); anything it leaves out takes the
-grader's defaults, the lab's own (waypoint_lab/course.py): the bundled lab_room, the robot at
-the lab's start, the lab's d and t. Angles are in degrees, as in waypoint files. No ROS here.
+thresholds (tasks.py); anything it leaves out takes the given defaults, else the lab's own
+(waypoint_lab/course.py): the bundled lab_room, the robot at the lab's start, the lab's d and
+t. Angles are in degrees, as in waypoint files. grade_lab grades on them; make scenario and
+scenario.launch.py bring them up. No ROS here.
 """
 
 from dataclasses import replace
