@@ -61,7 +61,9 @@ class PoseController:
         self._elapsed = 0.0
         # Where planning last found every plan vetoed; None while not blocked.
         self._blocked_at = None
-        self._direction = 0
+        # How the robot was last told to go (+1 forwards, counterclockwise; 0 neither): a new
+        # plan to the same end pose sets off the same way unless another is much quicker.
+        self._direction = self._turn = 0
 
     def reconfigure(self, config: ControllerConfig) -> None:
         """Take new limits, tolerances and gains; the next command plans anew with them."""
@@ -94,7 +96,7 @@ class PoseController:
         limits = plan_limits(self.config)
         plan = None
         if not rechoose:
-            plan = fastest_plan(pose, self.target, limits, self._direction)
+            plan = fastest_plan(pose, self.target, limits, self._direction, self._turn)
             if self.is_free is not None and not self.is_free(plan):
                 plan = None
         if plan is None:
@@ -129,9 +131,13 @@ class PoseController:
         linear = feed_linear + self._distance_pid.update(
             distance_error, dt, kp=min(config.distance_kp, 0.9 / dt))
         linear = _clamp(linear, config.max_linear_speed)
+        angular = _clamp(angular, config.max_angular_speed)
         if abs(linear) > 1e-9:
             self._direction = 1 if linear > 0.0 else -1
-        return linear, _clamp(angular, config.max_angular_speed)
+        # A turn at half the rate or more is turning; less is driving straight.
+        self._turn = (0 if abs(angular) < 0.5 * config.max_angular_speed
+                      else 1 if angular > 0.0 else -1)
+        return linear, angular
 
     def _replan_if_astray(self, pose, dt):
         if self.plan is None:

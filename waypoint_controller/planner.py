@@ -22,7 +22,7 @@ ANGLE_MARGIN = 0.2
 RING_DIRECTIONS = 8
 # When walls veto every end pose of that ring, a denser ring is tried.
 WIDE_RING_DIRECTIONS = 24
-# Seconds a plan may lose to keep the robot's direction of travel.
+# Seconds a plan may lose to keep the robot's direction of travel and of turning.
 DIRECTION_HYSTERESIS = 0.3
 # Only the quickest end poses of the current leg are judged by the leg after it.
 LOOKAHEAD_CANDIDATES = 4
@@ -108,18 +108,22 @@ class TurnPlan:
                 self.start[2] + self._sign * self.limits.rate * time)
 
 
-def fastest_plan(start, target, limits: Limits, direction: int = 0):
+def fastest_plan(start, target, limits: Limits, direction: int = 0, turn: int = 0):
     """
     Return the quicker of the Reeds-Shepp path and the feasible full-rate turns to target.
 
-    With direction +1 or -1, a path setting off that way is kept unless another is quicker by
-    more than DIRECTION_HYSTERESIS: between two near-equal paths, the robot does not flip.
+    With direction +1 or -1 (forwards, backwards) and turn +1 or -1 (counterclockwise,
+    clockwise), a path setting off that way is kept unless another is quicker by more than
+    DIRECTION_HYSTERESIS: between two near-equal paths, the robot does not flip. (Where two
+    paths that first turn opposite ways are equally short, each side of the boundary plans
+    to turn away from it; with commands that land late the robot would cross it every
+    period, planning again each time, and never go either way.)
     """
     relative = relative_goal(start, target, limits.radius)
     best = ReedsSheppPlan(start, shortest_path(*relative), limits)
-    if direction:
-        steady = ReedsSheppPlan(start, shortest_path(*relative, first_direction=direction),
-                                limits)
+    if direction or turn:
+        steady = ReedsSheppPlan(start, shortest_path(*relative, first_direction=direction,
+                                                     first_turn=turn), limits)
         if steady.segments and steady.duration <= best.duration + DIRECTION_HYSTERESIS:
             best = steady
     offset = (target[0] - start[0], target[1] - start[1])

@@ -145,12 +145,15 @@ def _mirrors(x, y, phi):
             (x, -y, -phi, 1.0, -1), (-x, -y, phi, -1.0, -1))
 
 
-def shortest_path(x: float, y: float, phi: float, first_direction: int = 0) -> tuple:
+def shortest_path(x: float, y: float, phi: float, first_direction: int = 0,
+                  first_turn: int = 0) -> tuple:
     """
     Return the shortest path from the origin facing +x to (x, y, phi), all in radii.
 
     A tuple of Segments; their absolute lengths sum to the path length. With first_direction
-    +1 or -1, only paths that set off forwards or backwards count (empty if none does).
+    +1 or -1, only paths that set off forwards or backwards count; with first_turn +1 or -1,
+    only those whose heading first turns that way (counterclockwise, clockwise) or not at all
+    (empty if none does).
     """
     best, best_length = (), math.inf
     backwards = (x * math.cos(phi) + y * math.sin(phi), x * math.sin(phi) - y * math.cos(phi))
@@ -169,6 +172,8 @@ def shortest_path(x: float, y: float, phi: float, first_direction: int = 0) -> t
                         pieces.reverse()
                     if first_direction and _sets_off(pieces) not in (0, first_direction):
                         continue
+                    if first_turn and _first_turn(pieces) not in (0, first_turn):
+                        continue
                     best, best_length = tuple(pieces), total
     return best
 
@@ -178,6 +183,14 @@ def _sets_off(segments):
     for segment in segments:
         if abs(segment.length) > _SLACK:
             return 1 if segment.length > 0.0 else -1
+    return 0
+
+
+def _first_turn(segments):
+    """Return the sign of the heading's first change (+1 counterclockwise), 0 if straight."""
+    for segment in segments:
+        if abs(segment.length) > _SLACK:
+            return segment.steering * (1 if segment.length > 0.0 else -1)
     return 0
 
 

@@ -176,3 +176,36 @@ def test_a_goal_every_plan_to_which_is_vetoed_is_not_searched_again_in_place(mon
     law.avoid(lambda plan: False)
     law.command((1.5, 2.0, 0.0), 0.05)
     assert len(searches) == 3
+
+
+@pytest.mark.parametrize('nudge', [0.0, 1e-15])
+def test_commands_a_period_late_never_chatter_where_two_turns_are_equally_quick(nudge):
+    """
+    Commands a period late: a turn once chosen is kept, not flipped every step.
+
+    The bench's course 574 (seed 2026): from its third waypoint, the quickest path into the
+    fourth first turns right or left as the heading lies either side of -1.59 rad, and each
+    side's plan turns away from the other. With every command a period late the robot crossed
+    that line every step, planning again each time (147 s until the time limit, not 14 s),
+    whatever the last bits of the start.
+    """
+    waypoints = [Waypoint(0.0, 0.0, 1.3942362494255303),
+                 Waypoint(-0.11341019886895706, -0.6356435799573485, 1.9229553044107615),
+                 Waypoint(-0.3429068788998829, -0.062282915936630934, -1.5274644739876475),
+                 Waypoint(0.32107335385489966, -1.0220775978605257, 1.6232699842058098),
+                 Waypoint(1.9593499486025996, 0.9812364994022762, 2.326909039615707)]
+    law = PlannedLaw(waypoints, CONFIG)
+    dt = 0.05
+    run = RunLifecycle(waypoints, law, RunRules(control_period_ns=round(dt * 1e9),
+                                                stall_timeout=60.0))
+    pose, pending, elapsed = (0.0, 0.0, 0.39345367283686183 + nudge), (0.0, 0.0), 0.0
+    while elapsed <= 30.0:
+        outcome = run.observe(round(elapsed * 1e9) + 1, pose)
+        if outcome.exit_code == 0:
+            break
+        # The command applied is the one computed a period before.
+        applied, pending = pending, outcome.command or pending
+        pose = tuple(float(value) for value in arc_step(*pose, *applied, dt))
+        elapsed += dt
+    assert outcome.exit_code == 0, f'not finished in {elapsed:.1f} s'
+    assert elapsed < 20.0 and law.controller.replans < 60, (elapsed, law.controller.replans)

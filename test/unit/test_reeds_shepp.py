@@ -79,3 +79,20 @@ def test_a_required_first_direction_is_kept_at_a_price():
             end = end_of(start, steady)
             assert math.dist(end[:2], goal[:2]) < 1e-9
     assert kept > 500
+
+
+def test_a_required_first_turn_is_kept_at_a_price():
+    kept = 0
+    for start, goal in random_poses(8, 300):
+        relative = relative_goal(start, goal, RADIUS)
+        free = shortest_path(*relative)
+        for turn in (1, -1):
+            steady = shortest_path(*relative, first_turn=turn)
+            if not steady:
+                continue
+            kept += 1
+            first = next(s for s in steady if abs(s.length) > 1e-12)
+            assert first.steering * math.copysign(1, first.length) in (0, turn)
+            assert path_length(steady) >= path_length(free) - 1e-12
+            assert math.dist(end_of(start, steady)[:2], goal[:2]) < 1e-9
+    assert kept > 300
