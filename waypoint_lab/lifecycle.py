@@ -11,24 +11,25 @@ when the law gives a command that is no number. In between, the law is asked for
 once per control period of odometry time and the command is held in between, so the commands
 depend on the poses alone and a simulator in lockstep can count the answers.
 
-A control law is anything with aim(pose, index), told that waypoint index of the course is the
-goal from pose on, and command(pose, dt) -> (linear m/s, angular rad/s) for the next dt
-seconds. A law that plans may also have reachable: False once it finds that no path reaches
-the goal aimed at; the run then reports UNREACHABLE n and goes on to the next goal (the
-planning coursework's rule: a goal given up is said so, not pushed to a stall), and
-remaining(pose): the distance still to go along its plan, which the stall watch then measures
-progress by (a route round a wall leads away from the goal for a while), afresh each time its
-count of plans changes, and exploring: while true, no goal counts as reached (an explorer
-crosses goal sets on its way). Laws: the
-lab's PID answer (waypoint_controller), a learned policy (policy_controller), a student's own
-(FunctionLaw wraps a plain function), the courseworks' planner (coursework_answers). The
-runner node (runner.py) feeds this from ROS; tests and tools feed it poses directly.
+A control law (ControlLaw) is anything with aim(pose, index), told that waypoint index of the
+course is the goal from pose on, and command(pose, dt) -> (linear m/s, angular rad/s) for the
+next dt seconds. A law that plans (PlanningLaw) also has reachable: False once it finds that no
+path reaches the goal aimed at; the run then reports UNREACHABLE n and goes on to the next goal
+(the planning coursework's rule: a goal given up is said so, not pushed to a stall). A law that
+follows routes of its own (RoutingLaw) has remaining(pose): the distance still to go along its
+route, which the stall watch then measures progress by (a route round a wall leads away from
+the goal for a while), afresh each time its count of plans changes. A law that explores
+(ExploringLaw) has exploring: while true, no goal counts as reached (an explorer crosses goal
+sets on its way). Laws: the lab's PID answer (waypoint_controller), a learned policy
+(policy_controller), a student's own (FunctionLaw wraps a plain function), the courseworks'
+planner (coursework_answers). The runner node (runner.py) feeds this from ROS; tests and tools
+feed it poses directly.
 """
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 import math
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 from simple_robot_control.pose import wrap_angle
 from simple_robot_control.validation import shorten
@@ -46,6 +47,7 @@ JUMP_DISTANCE = 0.1
 JUMP_ANGLE = 0.2
 
 
+@runtime_checkable
 class ControlLaw(Protocol):
     """What a controller of the lab supplies: a command from a pose, towards a waypoint."""
 
@@ -54,6 +56,32 @@ class ControlLaw(Protocol):
 
     def command(self, pose: Pose, dt: float) -> tuple[float, float]:
         """Return (linear m/s, angular rad/s) to hold for the next dt seconds."""
+
+
+@runtime_checkable
+class PlanningLaw(ControlLaw, Protocol):
+    """A law that plans: it may find that no path reaches the goal aimed at."""
+
+    # False once no path reaches the goal aimed at.
+    reachable: bool
+
+
+@runtime_checkable
+class RoutingLaw(ControlLaw, Protocol):
+    """A law that follows routes of its own: progress is the way left along the route."""
+
+    # How many routes the law has planned: a new one is progress measured afresh.
+    plans: int
+
+    def remaining(self, pose: Pose) -> float:
+        """Return the distance still to go along the route from pose, in metres."""
+
+
+@runtime_checkable
+class ExploringLaw(ControlLaw, Protocol):
+    """A law that explores before it drives the goals: none counts as reached meanwhile."""
+
+    exploring: bool
 
 
 class FunctionLaw:
@@ -180,6 +208,10 @@ class RunLifecycle:
             raise ValueError('a course needs at least one waypoint')
         self.waypoints = list(waypoints)
         self.law = law
+        # What more than commands the law gives, known once: its plans, its exploring.
+        self._planning = law if isinstance(law, PlanningLaw) else None
+        self._routing = law if isinstance(law, RoutingLaw) else None
+        self._exploring = law if isinstance(law, ExploringLaw) else None
         self.rules = rules
         self.next_index = 0
         self.exit_code = None
@@ -220,7 +252,8 @@ class RunLifecycle:
         now = stamp_ns * 1e-9
         statuses = [started(pose)] if first else []
         # An exploring law passes through goal sets on its way: none counts until it is done.
-        reached = () if getattr(self.law, 'exploring', False) else self._advance(pose)
+        exploring = self._exploring is not None and self._exploring.exploring
+        reached = () if exploring else self._advance(pose)
         statuses += [waypoint_reached(index + 1, pose) for index in reached]
         if (first or reached) and self.next_index < len(self.waypoints):
             self._aim(pose, now)
@@ -230,13 +263,11 @@ class RunLifecycle:
             return Outcome((*statuses, finished()), reached, STOP, 0)
         goal = self.waypoints[self.next_index]
         distance, heading = goal_error(*pose, goal.x, goal.y, goal.theta)
-        remaining = getattr(self.law, 'remaining', None)
-        if remaining is not None:
-            distance = remaining(pose)
-            plans = getattr(self.law, 'plans', None)
-            if plans != self._plans:
+        if self._routing is not None:
+            distance = self._routing.remaining(pose)
+            if self._routing.plans != self._plans:
                 # A new plan (a wall found across the old one) is progress measured afresh.
-                self._plans = plans
+                self._plans = self._routing.plans
                 self._stall.restart(now)
         if self._stall.stalled(now, distance, heading):
             ending = self.abort(pose, (
@@ -262,7 +293,8 @@ class RunLifecycle:
     def _give_up_unreachable(self, pose, now):
         """Go past every goal the law says no path reaches; return their UNREACHABLE statuses."""
         statuses = []
-        while self.next_index < len(self.waypoints) and not getattr(self.law, 'reachable', True):
+        while (self.next_index < len(self.waypoints) and self._planning is not None
+               and not self._planning.reachable):
             self.next_index += 1
             statuses.append(unreachable(self.next_index, pose))
             if self.next_index < len(self.waypoints):

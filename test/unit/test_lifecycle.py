@@ -2,9 +2,13 @@
 
 import math
 
+from coursework_answers.explorer_law import ExplorerLaw
+from coursework_answers.route_law import RouteLaw
 import pytest
 from stdr_lite.core.kinematics import arc_step
-from waypoint_lab.lifecycle import FunctionLaw, Outcome, RunLifecycle, RunRules
+from waypoint_controller.control_law import PlannedLaw
+from waypoint_lab.lifecycle import (ControlLaw, ExploringLaw, FunctionLaw, Outcome, PlanningLaw,
+                                    RoutingLaw, RunLifecycle, RunRules)
 from waypoint_lab.status import parse_status
 from waypoint_lab.waypoints import Waypoint
 
@@ -186,3 +190,14 @@ def test_no_goal_counts_while_the_law_explores():
     assert kinds(run.observe(0, (1.0, 0.0, 0.0))) == ['STARTED']
     law.exploring = False
     assert kinds(run.observe(20 * MS, (1.0, 0.0, 0.0))) == ['WAYPOINT']
+
+
+def test_each_law_declares_what_more_than_commands_it_gives():
+    """The lifecycle asks a law only what its protocols declare (lifecycle.py)."""
+    goals = [Waypoint(1.0, 0.0, 0.0)]
+    route, explorer = RouteLaw(goals, 0.1, 0.1), ExplorerLaw(goals, 0.1, 0.1)
+    assert isinstance(route, PlanningLaw) and isinstance(route, RoutingLaw)
+    assert not isinstance(route, ExploringLaw) and isinstance(explorer, ExploringLaw)
+    answer = PlannedLaw(goals)
+    assert isinstance(answer, ControlLaw)
+    assert not any(isinstance(answer, kind) for kind in (PlanningLaw, RoutingLaw, ExploringLaw))
