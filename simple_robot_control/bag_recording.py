@@ -248,7 +248,8 @@ class BagRecording:
 
         As the executor takes them, through the same callback, for a reader that must hold
         all that was sent before it judges: a starved executor may leave a reliable
-        publisher's acknowledged messages waiting in the reader for seconds.
+        publisher's acknowledged messages waiting in the reader for seconds. rclpy 7.1 has no
+        public take (test/node/test_rclpy_limits.py fails once it has): the handle's is used.
         """
         subscription = self._recorded.get(topic)
         taken = 0

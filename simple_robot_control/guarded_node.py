@@ -6,6 +6,12 @@ What no check foresaw must still not end the node: every subscription, timer and
 callback of a GuardedNode runs inside a guard that turns an unexpected exception into one
 logged line naming the callback, the exception and where it was raised, and lets the node carry
 on. A guarded service answers with its response's defaults, unless given a failure answer.
+
+A node whose construction fails (a bad parameter, a file that cannot be read) destroys what it
+made of itself before the error goes on: left to the garbage collector, its DDS entities would
+be destroyed at any later allocation, holding the GIL, and Fast DDS can then wait forever on
+an event thread that itself waits for the GIL (seen in the suite: a test process hung in
+rcl_node_fini called from an import).
 """
 
 import functools
@@ -26,6 +32,12 @@ class GuardedNode(Node):
     def __init__(self, *args, **kwargs):
         self._reported_at = {}
         super().__init__(*args, **kwargs)
+
+    def __init_subclass__(cls, **kwargs):
+        """Make a subclass's __init__ destroy the node it made if it raises."""
+        super().__init_subclass__(**kwargs)
+        if '__init__' in cls.__dict__:
+            cls.__init__ = _destroyed_if_it_raises(cls.__dict__['__init__'])
 
     def guard(self, callback, what, failure=None):
         """
@@ -75,3 +87,18 @@ class GuardedNode(Node):
             srv_type, srv_name, self.guard(callback, f'the service {srv_name}',
                                            failure or (lambda request, response: response)),
             **kwargs)
+
+
+def _destroyed_if_it_raises(init):
+    """Wrap a node's __init__: on an exception, destroy the node's ROS entities, then raise."""
+    @functools.wraps(init)
+    def constructed(node, *args, **kwargs):
+        try:
+            init(node, *args, **kwargs)
+        except BaseException:
+            # Node's own destroy_node (a subclass's may need what was never made); a second
+            # call, by an enclosing subclass's __init__, does nothing.
+            if hasattr(node, '_Node__node'):
+                Node.destroy_node(node)
+            raise
+    return constructed

@@ -17,6 +17,7 @@ import pytest
 import rclpy
 from rclpy.context import Context
 from ros_helpers import events_executor
+from simple_robot_control.guarded_node import GuardedNode
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_STATIC_PEERS'] = ''
@@ -37,6 +38,8 @@ for _number in (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP, signal.SIGTERM):
                       else signal.SIG_DFL)
 
 TIERS = ('unit', 'node', 'system')
+# What a GuardedNode logs when a callback raised what no check foresaw.
+INTERNAL_ERROR = ']: internal error in '
 
 
 def pytest_collection_modifyitems(items):
@@ -63,3 +66,34 @@ def executor(ros_context):
     """Give the test an executor in its context; destroy its nodes afterwards."""
     with events_executor(ros_context) as executor:
         yield executor
+
+
+@pytest.fixture(autouse=True)
+def no_internal_error(request, monkeypatch):
+    """
+    Fail a test whose nodes logged an internal error.
+
+    In this process, or in the logs of the programs it started (start_logged's, in its
+    tmp_path).
+
+    A GuardedNode logs and swallows what no check foresaw, so the node carries on; a test that
+    passed beside such a line would hide a bug. A test that provokes one on purpose says so with
+    the mark internal_error_expected.
+    """
+    reported = []
+    report = GuardedNode.report_internal_error
+
+    def recorded(node, what, error):
+        reported.append(f'{node.get_name()}: internal error in {what}: '
+                        f'{type(error).__name__}: {error}')
+        report(node, what, error)
+
+    monkeypatch.setattr(GuardedNode, 'report_internal_error', recorded)
+    yield
+    folder = request.node.funcargs.get('tmp_path')
+    for log in sorted(folder.rglob('*.log')) if folder is not None else ():
+        reported += [f'{log.name}: {line.strip()}' for line in
+                     log.read_text(errors='replace').splitlines() if INTERNAL_ERROR in line]
+    if reported and request.node.get_closest_marker('internal_error_expected') is None:
+        pytest.fail('a node logged an internal error: ' + '; '.join(reported[:3]),
+                    pytrace=False)

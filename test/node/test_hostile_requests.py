@@ -191,6 +191,7 @@ def test_a_long_step_request_lets_the_node_serve_others(world, executor):
     assert steps.result().result.result == OK
 
 
+@pytest.mark.internal_error_expected
 def test_a_bug_in_a_request_is_answered_as_a_failure_and_logged(world, executor, monkeypatch):
     simulator, watch, call = world
 
@@ -205,6 +206,7 @@ def test_a_bug_in_a_request_is_answered_as_a_failure_and_logged(world, executor,
     assert_still_stepping(executor, watch)
 
 
+@pytest.mark.internal_error_expected
 def test_a_bug_in_a_subscription_leaves_the_node_alive(world, executor, monkeypatch):
     simulator, watch, call = world
     monkeypatch.setattr(simulator.simulation, 'teleport', lambda *args: 1 / 0)

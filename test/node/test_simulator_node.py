@@ -243,6 +243,17 @@ def test_bad_configuration_is_one_clear_error(ros_context, tmp_path, params, mes
     assert '\n' not in str(raised.value)
 
 
+def test_a_node_that_cannot_start_leaves_nothing_on_the_graph(ros_context):
+    """Its DDS entities are destroyed at once, not by the garbage collector at any moment."""
+    watcher = Node('watcher', context=ros_context)
+    try:
+        with pytest.raises(ConfigError):
+            StdrLite(context=ros_context, parameter_overrides=overrides(rate_hz=-1.0))
+        assert 'stdr_lite' not in watcher.get_node_names()
+    finally:
+        watcher.destroy_node()
+
+
 def pose_message(x, y, theta):
     message = PoseWithCovarianceStamped()
     message.header.frame_id = 'map'

@@ -204,3 +204,29 @@ def test_the_ground_floor_names_no_package_above_it():
         names = {node.value.split('.')[0] for node in ast.walk(ast.parse(path.read_text()))
                  if isinstance(node, ast.Constant) and isinstance(node.value, str)}
         assert not names & above, f'{path.relative_to(REPOSITORY)} names {names & above}'
+
+
+def layout_sections():
+    """Return the modules doc/layout.md names under each package of its tree: name -> {file}."""
+    text = (REPOSITORY / 'doc' / 'layout.md').read_text()
+    block = next(block for block in re.findall(r'```\n(.*?)```', text, re.S)
+                 if block.startswith('simple_robot_control/'))
+    sections, current = {}, None
+    for line in block.splitlines():
+        heading = re.match(r'^([a-z_]+)/\s', line)
+        if heading:
+            current = sections.setdefault(heading.group(1), set())
+        if current is not None:
+            current |= set(re.findall(r'\b([a-z_0-9]+\.py)\b', line))
+    return sections
+
+
+def test_the_layout_page_names_every_module_and_no_other():
+    sections = layout_sections()
+    assert set(sections) == set(PACKAGES)
+    for package, named in sections.items():
+        tree = {path.name for path in (REPOSITORY / package).rglob('*.py')
+                if path.name != '__init__.py'}
+        assert tree <= named, f'doc/layout.md lacks {sorted(tree - named)} under {package}/'
+        stray = {name for name in named - tree if not (REPOSITORY / name).is_file()}
+        assert not stray, f'doc/layout.md names {sorted(stray)} under {package}/: not there'
