@@ -5,7 +5,8 @@ Each goal's route is planned on the map (route_law.py), driven leg by leg, and r
 robot_status as the lab reports waypoints; a goal no route reaches is reported UNREACHABLE n and
 the run goes on. The map is the simulator's /map or, with map_topic, a mapper's growing map:
 a new map showing a wall across the route means planning again from where the robot is; with
-max_map_age each pose waits for a map that fresh, so a run in lockstep is the same anywhere.
+max_map_age each pose waits for a map that fresh, so in lockstep the robot never outruns the
+mapper (which map within that age came first still depends on timing: runs differ).
 With explore_for it explores the map's frontiers first (explorer_law.py), the exploration
 coursework's reference answer.
 """

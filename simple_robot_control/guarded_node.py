@@ -31,7 +31,9 @@ class GuardedNode(Node):
 
     def __init__(self, *args, **kwargs):
         self._reported_at = {}
+        self._node_made = False
         super().__init__(*args, **kwargs)
+        self._node_made = True
 
     def __init_subclass__(cls, **kwargs):
         """Make a subclass's __init__ destroy the node it made if it raises."""
@@ -90,15 +92,20 @@ class GuardedNode(Node):
 
 
 def _destroyed_if_it_raises(init):
-    """Wrap a node's __init__: on an exception, destroy the node's ROS entities, then raise."""
+    """
+    Wrap a node's __init__: on an error once rclpy's Node is made, destroy it, then raise.
+
+    An interruption (a signal while starting: BaseException) leaves everything as it is, for
+    the program ends at once and rclpy may be half way through its own start.
+    """
     @functools.wraps(init)
     def constructed(node, *args, **kwargs):
         try:
             init(node, *args, **kwargs)
-        except BaseException:
+        except Exception:
             # Node's own destroy_node (a subclass's may need what was never made); a second
             # call, by an enclosing subclass's __init__, does nothing.
-            if hasattr(node, '_Node__node'):
+            if getattr(node, '_node_made', False):
                 Node.destroy_node(node)
             raise
     return constructed

@@ -145,7 +145,7 @@ class CourseRunner(GuardedNode):
         Say whether the law has what it needs, beyond the pose, to answer at stamp_ns.
 
         READY: the run takes the pose. WAIT: the answer waits for the inputs (answer_waiting()
-        once they come), so that a run in lockstep is the same on any machine. NOT_YET: the
+        once they come), so that in lockstep the robot never outruns them. NOT_YET: the
         law has had no input at all: the stamp is answered with a stop and the run starts
         later (in lockstep the simulator steps on until the first input comes).
         """

@@ -30,7 +30,7 @@ class CommandTypeWatch:
                                               clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._resubscribe.cancel()
 
-    def check(self, names_and_types):
+    def check(self, names_and_types: list[tuple[str, list[str]]]) -> None:
         """Look at every robot's cmd_vel whose graph shows a type the robot does not read."""
         by_topic = {topics.cmd_vel_topic: topics for name, topics in self._topics.items()
                     if name not in self._pending}

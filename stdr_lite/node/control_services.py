@@ -49,7 +49,7 @@ CUSTOM_INFO = ('stdr_lite (simple_robot_control): a 2D world of robots (unicycle
 STATE = SimulationState
 
 
-def world_resource(path, named_only=False):
+def world_resource(path: str, named_only: bool = False) -> WorldResource:
     """Describe a map_server map file as a standard world; by its name alone if named_only."""
     name = os.path.splitext(os.path.basename(path))[0]
     return WorldResource(name=name, world_resource=Resource(uri='' if named_only else path),
@@ -90,7 +90,7 @@ class SimulationControl:
                                          lambda goal: GoalResponse.REJECT),
                 cancel_callback=lambda _: CancelResponse.ACCEPT)
 
-    def destroy(self):
+    def destroy(self) -> None:
         """Destroy the action server: Node.destroy_node leaves it, and the node, alive."""
         if self._steps_action is not None:
             self._steps_action.destroy()

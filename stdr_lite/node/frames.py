@@ -18,6 +18,8 @@ from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.pose import compose, invert
 from stdr_lite.core.entities import Category
+from stdr_lite.core.odometry import OdometryReading
+from stdr_lite.core.simulation import Simulation
 from stdr_lite.node.messages import obstacle_markers, robot_markers, transform
 from stdr_lite.node.parameters import STDR_STATIC_FRAME
 from tf2_msgs.msg import TFMessage
@@ -50,12 +52,12 @@ class FramePublisher:
                                         clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._timer.cancel()
 
-    def entities_changed(self):
+    def entities_changed(self) -> None:
         """Publish the mounts and every marker anew soon: entities came, went or moved."""
         self._entities_changed = True
         self._show_soon()
 
-    def obstacles_moved(self):
+    def obstacles_moved(self) -> None:
         """Publish the obstacle markers anew soon."""
         self._obstacles_moved = True
         self._show_soon()
@@ -72,7 +74,7 @@ class FramePublisher:
             self._publish_obstacles(self._simulation)
         self._entities_changed = self._obstacles_moved = False
 
-    def publish_moving(self, simulation, time_ns):
+    def publish_moving(self, simulation: Simulation, time_ns: int) -> None:
         """Publish every robot's moving frames, when anyone listens."""
         if not self._dynamic.get_subscription_count():
             return
@@ -91,7 +93,7 @@ class FramePublisher:
                                         simulation.odometry(name).pose))
         self._dynamic.publish(TFMessage(transforms=transforms))
 
-    def odometry_reading(self, simulation, name):
+    def odometry_reading(self, simulation: Simulation, name: str) -> OdometryReading:
         """
         Return a robot's odometry as its message gives it.
 

@@ -27,7 +27,7 @@ class GraphWatch:
         self._maker = node.create_timer(MAKE_PERIOD, self._make_one, clock=steady)
         self._maker.cancel()
 
-    def check(self):
+    def check(self) -> None:
         """Read the graph; follow cmd_vel types and queue the publishers that readers await."""
         names_and_types = self._node.get_topic_names_and_types()
         self._command_types.check(names_and_types)

@@ -38,7 +38,7 @@ class HealthWatch:
         node.create_timer(CHECK_PERIOD, self.check,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
 
-    def check(self):
+    def check(self) -> None:
         self._check_pace()
         self._check_publishers()
 

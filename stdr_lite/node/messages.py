@@ -2,11 +2,15 @@
 
 import array
 
+from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, TransformStamped
-from nav_msgs.msg import OccupancyGrid
+from nav_msgs.msg import OccupancyGrid, Odometry
+import numpy as np
 from sensor_msgs.msg import LaserScan, Range
+from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import set_pose, set_yaw
-from stdr_lite.core.robot_description import LaserSpec
+from stdr_lite.core.odometry import OdometryReading
+from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 from visualization_msgs.msg import Marker
 
 NANOSECONDS = 1_000_000_000
@@ -25,12 +29,12 @@ OUTLINE_WIDTH = 0.02
 PLANAR = (0, 1, 5)
 
 
-def set_stamp(stamp, time_ns):
+def set_stamp(stamp: Time, time_ns: int) -> None:
     """Write a time in nanoseconds into a builtin_interfaces/Time, in place."""
     stamp.sec, stamp.nanosec = divmod(time_ns, NANOSECONDS)
 
 
-def map_message(occupancy_map, frame_id):
+def map_message(occupancy_map: OccupancyMap, frame_id: str) -> OccupancyGrid:
     """Return the map as a nav_msgs/OccupancyGrid in frame_id."""
     message = OccupancyGrid()
     message.header.frame_id = frame_id
@@ -47,7 +51,7 @@ def map_message(occupancy_map, frame_id):
     return message
 
 
-def fill_odometry(message, time_ns, reading):
+def fill_odometry(message: Odometry, time_ns: int, reading: OdometryReading) -> None:
     """
     Write an odometry reading (pose, velocity, their spread) into a nav_msgs/Odometry.
 
@@ -76,7 +80,7 @@ def fill_odometry(message, time_ns, reading):
     message.twist.covariance = twist_covariance
 
 
-def transform(time_ns, parent, child, pose):
+def transform(time_ns: int, parent: str, child: str, pose: tuple) -> TransformStamped:
     """Return a TransformStamped placing child at the planar pose (x, y, yaw) in parent."""
     message = TransformStamped()
     set_stamp(message.header.stamp, time_ns)
@@ -86,12 +90,12 @@ def transform(time_ns, parent, child, pose):
     return message
 
 
-def sensor_message(frame_id, spec):
+def sensor_message(frame_id: str, spec: LaserSpec | SonarSpec) -> LaserScan | Range:
     """Return a LaserScan or Range with all but the stamp and the reading filled in."""
     return (_laser_message if isinstance(spec, LaserSpec) else _sonar_message)(frame_id, spec)
 
 
-def fill_reading(message, reading):
+def fill_reading(message: LaserScan | Range, reading: np.ndarray | float) -> None:
     """Write a reading (a laser's ranges or a sonar's range) into its message."""
     if isinstance(message, LaserScan):
         message.ranges = reading.astype('float32').tolist()
@@ -99,7 +103,8 @@ def fill_reading(message, reading):
         message.range = reading
 
 
-def robot_markers(name, radius, base_frame, marker_id, points=()):
+def robot_markers(name: str, radius: float, base_frame: str, marker_id: int,
+                  points: tuple = ()) -> list[Marker]:
     """
     Return the markers RViz shows for a robot: its footprint, its heading and its name.
 
@@ -128,7 +133,8 @@ def robot_markers(name, radius, base_frame, marker_id, points=()):
     return [footprint, heading, label]
 
 
-def obstacle_markers(name, radius, pose, moving, map_frame, marker_id):
+def obstacle_markers(name: str, radius: float, pose: tuple, moving: bool, map_frame: str,
+                     marker_id: int) -> list[Marker]:
     """
     Return the markers of an obstacle: a cylinder (grey, or orange if it can move) and its name.
 

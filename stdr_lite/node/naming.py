@@ -9,9 +9,11 @@ robot is checked first, at start and at every spawn.
 """
 
 from rclpy.impl.implementation_singleton import rclpy_implementation
+from rclpy.node import Node
 from simple_robot_control.node_runtime import rcl_problem
 from simple_robot_control.validation import shorten
-from stdr_lite.core.robot_description import ROBOT_TOPICS
+from stdr_lite.core.robot_description import ROBOT_TOPICS, RobotDescription
+from stdr_lite.node.parameters import Frames
 
 # rmw's limit: 255 characters less 8 for the middleware's own prefixes and suffixes.
 MAX_TOPIC_LENGTH = 247
@@ -25,7 +27,8 @@ class NamingProblem(ValueError):
         self.part = part
 
 
-def check_robot_names(node, frames, namespace, description):
+def check_robot_names(node: Node, frames: Frames, namespace: str,
+                      description: RobotDescription) -> None:
     """
     Raise NamingProblem unless every topic and frame of the robot can exist.
 

@@ -5,8 +5,11 @@ The executable judges a command line against this table before the simulation's 
 (early_parameters.py); simulation_setup.py builds the simulation the parameters describe.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
 import os
+from typing import TYPE_CHECKING
 
 from simple_robot_control.parameter_specs import ParameterSpec
 from simple_robot_control.share import BUNDLED_RESOURCES, shared_file
@@ -14,6 +17,9 @@ from simple_robot_control.validation import Bounds, NON_NEGATIVE, require, short
 from stdr_lite.core.setting_values import (DEFAULT_POSE, INTEGRATOR_NAMES, SAFETY_ANGULAR_SPEED,
                                            SAFETY_CEILING, SAFETY_LINEAR_SPEED,
                                            SENSOR_NOISE_MODES)
+
+if TYPE_CHECKING:  # the table stays light: the specs' module loads numpy
+    from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 
 FRAME_STYLES = ('rep105', 'stdr')
 OPTIONAL_TOPICS = ('auto', 'eager', 'on_demand')
@@ -136,21 +142,21 @@ class Frames:
     style: str = 'rep105'
 
     @property
-    def stdr(self):
+    def stdr(self) -> bool:
         return self.style == 'stdr'
 
-    def odom(self, robot):
+    def odom(self, robot: str) -> str:
         """Return the frame of a robot's odometry (its pose's parent)."""
         return STDR_STATIC_FRAME if self.stdr else f'{robot}/{self.odom_frame}'
 
-    def base(self, robot):
+    def base(self, robot: str) -> str:
         return robot if self.stdr else f'{robot}/{self.base_frame}'
 
-    def sensor(self, robot, spec):
+    def sensor(self, robot: str, spec: LaserSpec | SonarSpec) -> str:
         return f'{robot}_{spec.frame_id}' if self.stdr else f'{robot}/{spec.frame_id}'
 
 
-def frames(params):
+def frames(params: dict) -> Frames:
     """Return the frame names; a robot's odometry and body frames must differ."""
     if params['frame_style'] == 'stdr':
         changed = [spec.name for spec in PARAMETERS if spec.name in REP105_FRAMES
@@ -166,7 +172,7 @@ def frames(params):
                   params['frame_style'])
 
 
-def search_path(params):
+def search_path(params: dict) -> tuple[str, ...]:
     """Return where robot files' includes are looked for: resource_paths, then the bundled."""
     for folder in params['resource_paths']:
         require(os.path.isdir(folder), f'resource_paths: {shorten(folder)} is not a folder')

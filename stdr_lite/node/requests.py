@@ -29,6 +29,7 @@ thread, between its steps.
 """
 
 from collections import deque
+from collections.abc import Callable
 import concurrent.futures
 import contextlib
 import io
@@ -58,7 +59,7 @@ INTAKE_WAIT = 0.1
 WAIT = 'wait'
 
 
-def in_thread(function, *args):
+def in_thread(function: Callable, *args) -> concurrent.futures.Future:
     """
     Run function(*args) in a thread of its own; return a concurrent.futures.Future of it.
 
@@ -122,7 +123,7 @@ class _Job:
             return self._finish(Result.RESULT_OPERATION_FAILED,
                                 f'internal error: {type(error).__name__}: {error}')
 
-    def abandon(self, reason):
+    def abandon(self, reason: str) -> None:
         """End the job unfinished (the simulator is going), answering with reason."""
         if self._steps is not None:
             self._steps.close()
@@ -199,11 +200,11 @@ class RequestQueue:
         self._thread.start()
 
     @property
-    def busy(self):
+    def busy(self) -> bool:
         """Whether some request is still being served."""
         return bool(self._jobs)
 
-    def serve(self, kind, name, work, private=True):
+    def serve(self, kind: type, name: str, work: Callable, private: bool = True) -> Service:
         """Serve the service ~/name (name, unless private) of type kind with work as a job."""
         def take(request, response):
             # In the intake thread: the job waits for the simulator's thread to run it.
@@ -216,7 +217,7 @@ class RequestQueue:
         full_name = f'{self._node.get_fully_qualified_name()}/{name}' if private else name
         return self._intake.create_service_answered_later(kind, full_name, take)
 
-    def close(self):
+    def close(self) -> None:
         """Stop taking requests and let the intake node go (before the simulator's node)."""
         self._closing.set()
         self._thread.join(timeout=2 * INTAKE_WAIT + 1.0)
@@ -236,7 +237,7 @@ class RequestQueue:
         if self._jobs and self._pump.is_canceled():
             self._pump.reset()
 
-    def abandon(self, reason):
+    def abandon(self, reason: str) -> None:
         """Answer every request not yet served with a failure: the simulator is going."""
         while self._jobs:
             self._jobs.popleft().abandon(reason)

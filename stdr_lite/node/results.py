@@ -24,5 +24,6 @@ class Refusal(Exception):
         self.code = code
 
 
-def result(code=Result.RESULT_OK, message=''):
+def result(code: int = Result.RESULT_OK, message: str = '') -> Result:
+    """Return a simulation_interfaces Result: OK unless told otherwise."""
     return Result(result=code, error_message=message)

@@ -1,7 +1,10 @@
 """One simulated robot's topics: what it hears and what it says, with reused messages."""
 
+from collections.abc import Iterator
+
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
+import numpy as np
 from rclpy.event_handler import PublisherEventCallbacks
 from simple_robot_control.graph import type_name
 from std_msgs.msg import Bool
@@ -9,6 +12,8 @@ try:
     from stdr_msgs.srv import MoveRobot
 except ImportError:  # a ROS 2 machine where interfaces/stdr_msgs was not built
     MoveRobot = None
+from stdr_lite.core.odometry import OdometryReading
+from stdr_lite.core.robot_description import LaserSpec, SonarSpec
 from stdr_lite.node.messages import fill_odometry, fill_reading, sensor_message, set_stamp
 
 GROUND_TRUTH = 'ground_truth'
@@ -90,7 +95,7 @@ class RobotTopics:
         return self._node.create_subscription(
             Twist, f'{self._prefix}/cmd_vel', lambda message: self._on_command(name, message), 10)
 
-    def stop_reading_commands(self):
+    def stop_reading_commands(self) -> None:
         """
         Take the cmd_vel subscription away, to subscribe anew with another type soon.
 
@@ -100,24 +105,24 @@ class RobotTopics:
         self._node.destroy_subscription(self._command)
         self._command = None
 
-    def read_commands_as(self, kind):
+    def read_commands_as(self, kind: type) -> None:
         """Read the robot's cmd_vel as kind from now on, after stop_reading_commands."""
         if self._command is None:
             self._command = self._command_subscription(kind)
 
     @property
-    def complete(self):
+    def complete(self) -> bool:
         """Whether every publisher due is made (see make_sensor_topic)."""
         return not self._unmade
 
-    def wanted(self, topic):
+    def wanted(self, topic: str) -> None:
         """Queue the publisher of topic (its full name) if it is one of ours not yet made."""
         item = self._optional.get(topic)
         if item is not None and item not in self._unmade and not self._made(item):
             self._unmade.append(item)
 
     @property
-    def unmade_topics(self):
+    def unmade_topics(self) -> list[str]:
         """Return the full names of the optional topics with no publisher and none due."""
         return [topic for topic, item in self._optional.items()
                 if item not in self._unmade and not self._made(item)]
@@ -129,7 +134,7 @@ class RobotTopics:
             return self._stall_publisher is not None
         return item.frame_id in self._sensors
 
-    def make_sensor_topic(self):
+    def make_sensor_topic(self) -> None:
         """
         Make one more publisher that is due, if any is left.
 
@@ -167,43 +172,44 @@ class RobotTopics:
         return self._node.create_publisher(
             kind, topic, depth, event_callbacks=PublisherEventCallbacks(matched=matched))
 
-    def publish_odometry(self, time_ns, reading):
+    def publish_odometry(self, time_ns: int, reading: OdometryReading) -> None:
         fill_odometry(self._odometry, time_ns, reading)
         self.odom_publisher.publish(self._odometry)
 
     @property
-    def ground_truth_listened(self):
+    def ground_truth_listened(self) -> bool:
         """Whether anyone subscribes to the ground truth, so it is worth publishing."""
         return self._readers.get(GROUND_TRUTH, 0) > 0
 
-    def publish_ground_truth(self, time_ns, reading):
+    def publish_ground_truth(self, time_ns: int, reading: OdometryReading) -> None:
         fill_odometry(self._ground_truth, time_ns, reading)
         self._ground_truth_publisher.publish(self._ground_truth)
 
     @property
-    def stall_listened(self):
+    def stall_listened(self) -> bool:
         """Whether anyone subscribes to the stall flag."""
         return self._readers.get(STALL, 0) > 0
 
-    def publish_stall(self, stalled):
+    def publish_stall(self, stalled: bool) -> None:
         self._stall.data = stalled
         self._stall_publisher.publish(self._stall)
 
-    def listened(self, spec):
+    def listened(self, spec: LaserSpec | SonarSpec) -> bool:
         """Whether anyone subscribes to this sensor's topic."""
         return self._readers.get(spec.frame_id, 0) > 0
 
-    def any_listened(self):
+    def any_listened(self) -> bool:
         """Whether anyone subscribes to any of the robot's sensors."""
         return any(self._readers[frame_id] for frame_id in self._sensors)
 
-    def publish_reading(self, spec, time_ns, reading):
+    def publish_reading(self, spec: LaserSpec | SonarSpec, time_ns: int,
+                        reading: np.ndarray | float) -> None:
         publisher, message = self._sensors[spec.frame_id]
         set_stamp(message.header.stamp, time_ns)
         fill_reading(message, reading)
         publisher.publish(message)
 
-    def dismantle(self):
+    def dismantle(self) -> Iterator[None]:
         """
         Take the robot's topics off the graph, one at a time, yielding after each (a generator).
 

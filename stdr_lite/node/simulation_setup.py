@@ -6,15 +6,17 @@ from simple_robot_control.occupancy_map import MapError
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import ConfigError, require
 from stdr_lite.core.loading import load_world
-from stdr_lite.core.robot_description import load_robot, RobotEntry, RobotFileError
+from stdr_lite.core.robot_description import (load_robot, RobotDescription, RobotEntry,
+                                              RobotFileError)
 from stdr_lite.core.robot_list import load_robot_list
 from stdr_lite.core.setting_values import OdometryNoise
-from stdr_lite.core.simulation import RequestError, SimulationSettings
+from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
 from stdr_lite.core.world import PlacementError
 from stdr_lite.node.parameters import PARAMETERS
 
 
-def build_simulation(params, folders):
+def build_simulation(params: dict, folders: tuple[str, ...]
+                     ) -> tuple[Simulation, RobotDescription]:
     """
     Return the simulation the parameters describe, and the robots' default description.
 
@@ -52,3 +54,17 @@ def _robot_entries(params, description, folders):
                if spec.name in single and single[spec.name] != spec.default]
     require(not changed, f'robots_file lists the robots; drop {", ".join(changed)}')
     return load_robot_list(params['robots_file'], description, folders)
+
+
+def start_line(simulation: Simulation, params: dict, supervised: bool) -> str:
+    """Return the line the node logs at start: the world, the robots, the rate and the modes."""
+    names = simulation.names
+    robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in simulation.pose(name))}'
+                        for name in names) if len(names) <= 5 else f'{len(names)} robots')
+    robots = robots or 'no robots'
+    modes = ''.join(f', {mode}' for mode in ('lockstep', 'paused') if params[mode])
+    modes += ', supervised' if supervised else ''
+    grid = simulation.occupancy_map
+    return (f'{grid.source} {grid.width}x{grid.height} cells, {robots}, '
+            f'{params["rate_hz"]:g} Hz {params["integrator"]}, real_time_factor '
+            f'{params["real_time_factor"]:g}{modes}')

@@ -1,6 +1,8 @@
 """The stdr_lite node: the simulation core on STDR's topics and the standard simulation API."""
 
+import argparse
 import array
+from collections.abc import Iterator
 import math
 import sys
 
@@ -19,6 +21,7 @@ from simple_robot_control.validation import ConfigError, describe, shorten
 from simulation_interfaces.msg import SimulationState
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
+from stdr_lite.core.robot_description import RobotDescription
 from stdr_lite.core.world import PlacementError
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
@@ -33,7 +36,7 @@ from stdr_lite.node.process_settings import settle_for_large_requests
 from stdr_lite.node.requests import RequestQueue
 from stdr_lite.node.robot_topics import RobotTopics
 from stdr_lite.node.served import Served
-from stdr_lite.node.simulation_setup import build_simulation
+from stdr_lite.node.simulation_setup import build_simulation, start_line
 from stdr_lite.node.stepper import Stepper
 from stdr_lite.node.supervisor_link import SupervisorLink
 
@@ -74,20 +77,7 @@ class StdrLite(GuardedNode):
             except NamingProblem as problem:
                 raise ConfigError(f'robot {shorten(name)}: {problem}') from None
         self._noted = set()
-        self._supervisor = None
-        if params['supervisor_fd'] >= 0:
-            try:
-                self._supervisor = SupervisorLink(
-                    self, int(params['supervisor_fd']),
-                    lambda: self.stepper.set_state(SimulationState.STATE_PLAYING),
-                    self.quit_soon)
-            except ValueError as error:
-                raise ConfigError(str(error)) from None
-            # Its pace and its world are the grader's: use_sim_time set by a submission would
-            # freeze its timers on a clock nobody publishes.
-            self.add_on_set_parameters_callback(lambda _: SetParametersResult(
-                successful=False, reason='a supervised simulator takes no parameter changes'))
-        world_changing = self._supervisor is None
+        self._supervisor = self._supervision(params)
         for name in self.simulation.robot_names:
             self.note_description(name, self.simulation.robot(name).description)
         self.requests = RequestQueue(self)
@@ -108,6 +98,28 @@ class StdrLite(GuardedNode):
         self.sync_entities()
         self._map = map_message(self.simulation.occupancy_map, self.frames.map_frame)
         self._publish_map()
+        self._serve(params)
+        self._begin(params)
+        self.get_logger().info(start_line(self.simulation, params, self._supervisor is not None))
+
+    def _supervision(self, params):
+        """Return the link to a supervisor (grade_lab) if one started the node, else None."""
+        if params['supervisor_fd'] < 0:
+            return None
+        try:
+            link = SupervisorLink(self, int(params['supervisor_fd']),
+                                  lambda: self.stepper.set_state(SimulationState.STATE_PLAYING),
+                                  self.quit_soon)
+        except ValueError as error:
+            raise ConfigError(str(error)) from None
+        # Its pace and its world are the grader's: use_sim_time set by a submission would
+        # freeze its timers on a clock nobody publishes.
+        self.add_on_set_parameters_callback(lambda _: SetParametersResult(
+            successful=False, reason='a supervised simulator takes no parameter changes'))
+        return link
+
+    def _serve(self, params):
+        """Serve the map, the simulation API and the watches (fewer under a supervisor)."""
         for name in MAP_SERVICES:
             self.requests.serve(GetMap, name, self._answer_map, private=False)
         # In lockstep the controller sets the pace by design: only free-running can lag.
@@ -118,8 +130,12 @@ class StdrLite(GuardedNode):
         served = Served(self.simulation, self.stepper, self.frames, self.search_path,
                         self.entity_topics, self.restart, self.show_state, self.note_description,
                         self.quit_soon)
+        world_changing = self._supervisor is None
         self._control = SimulationControl(self, served, world_changing)
         EntityServices(self, served, world_changing)
+
+    def _begin(self, params):
+        """Tell a supervisor the limits, and start paused (supervised) or in lockstep."""
         if self._supervisor is not None:
             settings = self.simulation.settings
             self._supervisor.send_limits(
@@ -131,28 +147,18 @@ class StdrLite(GuardedNode):
         if params['lockstep']:
             self.simulation.odometry_due()
             self.stepper.start_over(new_time=True)
-        names = self.simulation.names
-        robots = (', '.join(f'{name} at {tuple(round(v, 3) for v in self.simulation.pose(name))}'
-                            for name in names) if len(names) <= 5 else f'{len(names)} robots')
-        robots = robots or 'no robots'
-        modes = ''.join(f', {mode}' for mode in ('lockstep', 'paused') if params[mode])
-        modes += ', supervised' if self._supervisor is not None else ''
-        self.get_logger().info(
-            f'{self.simulation.occupancy_map.source} {self.simulation.occupancy_map.width}x'
-            f'{self.simulation.occupancy_map.height} cells, {robots}, {params["rate_hz"]:g} Hz '
-            f'{params["integrator"]}, real_time_factor {params["real_time_factor"]:g}{modes}')
 
     @property
-    def sim_time(self):
+    def sim_time(self) -> float:
         """Return the simulated seconds since start."""
         return self.simulation.sim_time
 
-    def sync_entities(self):
+    def sync_entities(self) -> None:
         """Give every robot its topics and no other, all at once (at start, or in a test)."""
         for _ in self.entity_topics():
             pass
 
-    def entity_topics(self):
+    def entity_topics(self) -> Iterator[None]:
         """
         Give every robot its topics and no other, yielding between endpoints (a generator).
 
@@ -180,7 +186,7 @@ class StdrLite(GuardedNode):
                 topics.make_sensor_topic()
                 yield
 
-    def restart(self, new_time, grid=None):
+    def restart(self, new_time: bool, grid: OccupancyGrid | None = None) -> Iterator[None]:
         """
         After a reset or a new world: publish the map (grid, if new), entities and state.
 
@@ -210,12 +216,12 @@ class StdrLite(GuardedNode):
         response.map.header, response.map.info = self._map.header, self._map.info
         response.map.data = array.array('b', bytes([0xFF]) * len(self._map.data))
 
-    def show_state(self):
+    def show_state(self) -> None:
         """Publish the current state again (same stamp), as after a teleport while paused."""
         self._publish_state()
         self._frame_publisher.obstacles_moved()
 
-    def note_description(self, name, description):
+    def note_description(self, name: str, description: RobotDescription) -> None:
         """Log, once per robot file, what it has unsimulated and whether its noise applies."""
         if description in self._noted:
             return
@@ -227,7 +233,7 @@ class StdrLite(GuardedNode):
         if note:
             self.get_logger().info(f'robot {shorten(name)}: {note}')
 
-    def quit_soon(self):
+    def quit_soon(self) -> None:
         """End the node once the answer that asked for it has gone out."""
         def quit_now():
             self.destroy_timer(timer)
@@ -339,17 +345,17 @@ class StdrLite(GuardedNode):
     def _sensors_listened(self, name):
         return self._topics[name].any_listened()
 
-    def odometry_subscribers(self):
+    def odometry_subscribers(self) -> int:
         """Count the subscriptions to every robot's odometry."""
         return sum(topics.odom_publisher.get_subscription_count()
                    for topics in self._topics.values())
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         self._control.destroy()
         self.requests.close()
         super().destroy_node()
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Answer the requests still queued, and log how long controllers took to answer."""
         self.requests.abandon('the simulator is shutting down')
         latencies = self.stepper.answer_latencies
@@ -360,14 +366,14 @@ class StdrLite(GuardedNode):
                 f'after {median:.2f} ms (median), {p99:.2f} ms (99th percentile)')
 
 
-def built_simulator(options) -> StdrLite:
+def built_simulator(options: argparse.Namespace) -> StdrLite:
     """Build the node, then set the process up for it (process_settings.py says why)."""
     node = StdrLite()
     settle_for_large_requests()
     return node
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('stdr_lite', DESCRIPTION, PARAMETERS)
     sys.exit(run('stdr_lite', parser, built_simulator, argv))
 

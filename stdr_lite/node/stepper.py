@@ -51,14 +51,14 @@ class Stepper:
             self._repeat = node.create_timer(0.05, self._repeat_unanswered_state, clock=steady)
 
     @property
-    def playing(self):
+    def playing(self) -> bool:
         return self.state == SimulationState.STATE_PLAYING
 
-    def may_step(self):
+    def may_step(self) -> bool:
         return self.playing or (self.state == SimulationState.STATE_PAUSED and bool(
             self._requests))
 
-    def set_state(self, state):
+    def set_state(self, state: int) -> None:
         """
         Enter a state; steps asked for while paused fail when leaving pause.
 
@@ -75,18 +75,18 @@ class Stepper:
             self._repeated_at = time.monotonic()
         self._wake()
 
-    def request_step(self):
+    def request_step(self) -> Future:
         """Ask for one step while paused; the future says True once it is taken."""
         future = Future()
         self._requests.append(future)
         self._wake()
         return future
 
-    def step_now(self):
+    def step_now(self) -> None:
         """Take one step at once, whatever the pacing and the answers (StepSimulation)."""
         self._advance()
 
-    def start_over(self, new_time):
+    def start_over(self, new_time: bool) -> None:
         """
         After a reset or a new world: publish the state there is now.
 
@@ -103,20 +103,20 @@ class Stepper:
                 self._simulation.awaited_commands.keep_only(self._simulation.robot_names)
         self._wake()
 
-    def answered(self, name):
+    def answered(self, name: str) -> None:
         """Lockstep: note a robot's command; step on once every robot has answered."""
         if self._simulation.awaited_commands.answer(name):
             self.answer_latencies.append(time.monotonic() - self._published_at)
             self.step_if_answered()
 
-    def step_if_answered(self):
+    def step_if_answered(self) -> None:
         """Unpaced lockstep: run to the next published odometry once all have answered."""
         if self._step_on_answer:
             while self.may_step() and not self._simulation.awaited_commands.awaiting:
                 if self._advance():
                     break
 
-    def await_answers(self):
+    def await_answers(self) -> None:
         self._simulation.await_commands()
         self._published_at = self._repeated_at = time.monotonic()
 

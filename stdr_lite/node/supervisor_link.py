@@ -15,9 +15,15 @@ simulation ends. A supervised simulator serves nothing that moves, resets, steps
 deletes (stdr_lite.py leaves those services, the action and initialpose out).
 """
 
+from __future__ import annotations
+
 import ctypes
 import socket
 import time
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # at run time the node hands its simulation over; nothing more is loaded
+    from stdr_lite.core.simulation import Simulation
 
 _PR_SET_DUMPABLE = 4
 PLAY = b'play\n'
@@ -52,7 +58,7 @@ class SupervisorLink:
         """Say the step and the fastest motion the simulation allows."""
         self._send(f'limits {dt!r} {linear!r} {angular!r}\n')
 
-    def send_truth(self, simulation, sim_ns: int) -> None:
+    def send_truth(self, simulation: Simulation, sim_ns: int) -> None:
         """Send every robot's true pose and stall flag of the step just published."""
         wall_ns = time.time_ns()  # the clock DDS stamps its messages with
         lines = []

@@ -63,36 +63,23 @@ def test_a_quarter_turn_on_the_circle_is_one_arc():
             if abs(s.length) > 1e-12] == [RIGHT]
 
 
-def test_a_required_first_direction_is_kept_at_a_price():
+@pytest.mark.parametrize('requirement, seed, at_least', [('first_direction', 7, 500),
+                                                         ('first_turn', 8, 300)])
+def test_a_required_way_of_setting_off_is_kept_at_a_price(requirement, seed, at_least):
+    """Forwards or backwards; turning counterclockwise or clockwise (or not at all) first."""
     kept = 0
-    for start, goal in random_poses(7, 300):
+    for start, goal in random_poses(seed, 300):
         relative = relative_goal(start, goal, RADIUS)
         free = shortest_path(*relative)
-        for direction in (1, -1):
-            steady = shortest_path(*relative, first_direction=direction)
-            if not steady:
-                continue
-            kept += 1
-            first_moving = next(s for s in steady if abs(s.length) > 1e-12)
-            assert math.copysign(1, first_moving.length) == direction
-            assert path_length(steady) >= path_length(free) - 1e-12
-            end = end_of(start, steady)
-            assert math.dist(end[:2], goal[:2]) < 1e-9
-    assert kept > 500
-
-
-def test_a_required_first_turn_is_kept_at_a_price():
-    kept = 0
-    for start, goal in random_poses(8, 300):
-        relative = relative_goal(start, goal, RADIUS)
-        free = shortest_path(*relative)
-        for turn in (1, -1):
-            steady = shortest_path(*relative, first_turn=turn)
+        for way in (1, -1):
+            steady = shortest_path(*relative, **{requirement: way})
             if not steady:
                 continue
             kept += 1
             first = next(s for s in steady if abs(s.length) > 1e-12)
-            assert first.steering * math.copysign(1, first.length) in (0, turn)
+            direction = math.copysign(1, first.length)
+            assert (direction == way if requirement == 'first_direction'
+                    else first.steering * direction in (0, way))
             assert path_length(steady) >= path_length(free) - 1e-12
             assert math.dist(end_of(start, steady)[:2], goal[:2]) < 1e-9
-    assert kept > 300
+    assert kept > at_least
