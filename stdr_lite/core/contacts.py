@@ -29,8 +29,8 @@ class Picked:
         return self._shapes[self._picked[index]]
 
 
-def depths(first_poses: np.ndarray, first_radii: np.ndarray, first_shapes,
-           second_poses: np.ndarray, second_radii: np.ndarray, second_shapes,
+def depths(first_poses: np.ndarray, first_radii: np.ndarray, first_shapes: list,
+           second_poses: np.ndarray, second_radii: np.ndarray, second_shapes: list,
            polygonal: np.ndarray | None = None) -> np.ndarray:
     """
     Return how deep each pair of bodies overlaps: positive only when it does.
@@ -66,7 +66,8 @@ def _polygon_depth(first_pose, first_radius, first, second_pose, second_radius, 
     return second_radius + (distance if shapely.contains(polygon, centre) else -distance)
 
 
-def overlapped(pose: tuple, radius: float, shape, poses: np.ndarray, radii: np.ndarray,
+def overlapped(pose: tuple, radius: float, shape: np.ndarray | None, poses: np.ndarray,
+               radii: np.ndarray,
                shapes: list, ignore: int | None = None) -> int | None:
     """Return the index of a body that a body at pose would overlap, or None."""
     close = np.flatnonzero(np.hypot(poses[:, 0] - pose[0], poses[:, 1] - pose[1])

@@ -151,7 +151,7 @@ def sensors_of(description: RobotDescription, now_ns: int,
     return sensors
 
 
-def sensor_groups(entities, last_step_ns: int) -> list[tuple[PeriodicSchedule, list]]:
+def sensor_groups(entities: list, last_step_ns: int) -> list[tuple[PeriodicSchedule, list]]:
     """
     Group the entities' sensors by reading times: [(schedule, [(name, [spec, ...]), ...])].
 
@@ -176,7 +176,7 @@ class AwaitedCommands:
     def __init__(self):
         self._awaited = set()
 
-    def expect(self, names) -> None:
+    def expect(self, names: list[str]) -> None:
         """From now on, wait for a command from each of names before stepping."""
         self._awaited = set(names)
 
@@ -187,7 +187,7 @@ class AwaitedCommands:
         self._awaited.discard(name)
         return True
 
-    def keep_only(self, names) -> None:
+    def keep_only(self, names: list[str]) -> None:
         """Stop waiting for robots not among names (they are gone)."""
         self._awaited &= set(names)
 

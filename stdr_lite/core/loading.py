@@ -6,6 +6,7 @@ test of a control law): the node builds its simulation with it too, from its par
 world made here behaves as the node's does, step for step. No ROS here.
 """
 
+from collections.abc import Iterable
 import os
 
 from simple_robot_control.occupancy_map import load_map
@@ -30,7 +31,7 @@ def robot_file(name: str | os.PathLike = '') -> str:
     return bundled_files('robots').get(name, name)
 
 
-def robot_entries(robots, search_path=()) -> list[RobotEntry]:
+def robot_entries(robots: Iterable, search_path: tuple = ()) -> list[RobotEntry]:
     """
     Return RobotEntry objects for robots: entries already, or (name, pose[, robot file]).
 
@@ -50,7 +51,8 @@ def robot_entries(robots, search_path=()) -> list[RobotEntry]:
     return entries
 
 
-def load_world(map_name: str | os.PathLike = '', robots=(('robot0', DEFAULT_POSE),),
+def load_world(map_name: str | os.PathLike = '',
+               robots: Iterable = (('robot0', DEFAULT_POSE),),
                settings: SimulationSettings = SimulationSettings(),
                search_path: tuple = ()) -> Simulation:
     """

@@ -139,8 +139,10 @@ def _cast_group(clearance, resolution, origin, diagonal, x, y, max_range, owner,
 
 
 @njit(cache=True)
-def cast_mounted(clearance, resolution, origin, diagonal, poses, robots, mounts, group_starts,
-                 relative, group_range, circles, edges, edge_owners):
+def cast_mounted(clearance: np.ndarray, resolution: float, origin: np.ndarray, diagonal: float,
+                 poses: np.ndarray, robots: np.ndarray, mounts: np.ndarray,
+                 group_starts: np.ndarray, relative: np.ndarray, group_range: np.ndarray,
+                 circles: np.ndarray, edges: np.ndarray, edge_owners: np.ndarray) -> np.ndarray:
     """
     Return the distance along each sensor's ray to the first wall or body, inf beyond range.
 

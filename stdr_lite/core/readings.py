@@ -6,6 +6,7 @@ a public attribute named in its docstring, so reading and changing are each one 
 No ROS here.
 """
 
+from collections.abc import Callable
 import math
 
 import numpy as np
@@ -13,6 +14,7 @@ from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.pose import compose, invert
 from stdr_lite.core.entities import NANOSECONDS, RequestError, SimulatedEntity
 from stdr_lite.core.odometry import NO_SPREAD, OdometryReading
+from stdr_lite.core.robot_description import LaserSpec
 
 
 class SimulationReadings:
@@ -95,7 +97,7 @@ class SimulationReadings:
         """Return whether each robot's last step was refused, in robot_names order."""
         return self.state.stalled[self.state.robot_rows]
 
-    def read_lasers(self, names: list[str], spec) -> np.ndarray:
+    def read_lasers(self, names: list[str], spec: LaserSpec) -> np.ndarray:
         """
         Read one laser (a LaserSpec) on each robot of names now: a row of ranges each.
 
@@ -155,7 +157,8 @@ class SimulationReadings:
             return 0.0, 0.0, 0.0
         return compose(self.pose(name), invert(self.odometry(name).pose))
 
-    def due_sensors(self, wanted=None) -> list[tuple[str, object]]:
+    def due_sensors(self, wanted: Callable[[str], bool] | None = None
+                    ) -> list[tuple[str, object]]:
         """Return (robot name, sensor spec) for each sensor due at this step (Sensing.due)."""
         return self.sensing.due(self.time_ns, self.dt_ns, wanted)
 

@@ -7,8 +7,11 @@ step. The groups and plans are worked out from the state's rows and made again w
 version moves on (an entity added or removed), so nothing else has to say when they are stale.
 """
 
+from collections.abc import Callable
+
 import numpy as np
 from stdr_lite.core.entities import sensor_groups
+from stdr_lite.core.robot_description import LaserSpec
 from stdr_lite.core.sensors import RangeFinder, read_sensors, ReadingPlan
 from stdr_lite.core.state import WorldState
 
@@ -35,7 +38,8 @@ class Sensing:
                 sensor.restart(now_ns)
         self._forget()
 
-    def due(self, time_ns: int, dt_ns: int, wanted=None) -> list[tuple[str, object]]:
+    def due(self, time_ns: int, dt_ns: int, wanted: Callable[[str], bool] | None = None
+            ) -> list[tuple[str, object]]:
         """
         Return (robot name, sensor spec) for each sensor due at time_ns of a robot wanted.
 
@@ -60,7 +64,7 @@ class Sensing:
         return read_sensors(self.finder, state.pose, state.radius, state.shapes, rows,
                             self.noise, self.bodies_meet)
 
-    def read_lasers(self, names: list[str], spec) -> np.ndarray:
+    def read_lasers(self, names: list[str], spec: LaserSpec) -> np.ndarray:
         """Read one laser (a LaserSpec) on each robot of names now: a row of ranges each."""
         state = self.state
         if self._version != state.version:

@@ -9,6 +9,8 @@ one call (append, remove) that changes every column and the roster of names at o
 on the version by which caches of the rows know they are out of date.
 """
 
+from collections.abc import Iterable
+
 import numpy as np
 from stdr_lite.core.entities import RequestError, SimulatedEntity
 
@@ -51,7 +53,7 @@ class WorldState:
         self._robot_rows = np.zeros(0, dtype=np.int64)
 
     @classmethod
-    def of_bodies(cls, poses, radius: float = 0.0) -> 'WorldState':
+    def of_bodies(cls, poses: Iterable[tuple], radius: float = 0.0) -> 'WorldState':
         """Return a state of bare circular bodies at poses: for a part of the core used alone."""
         state = cls()
         for pose in poses:

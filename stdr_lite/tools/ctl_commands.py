@@ -40,7 +40,7 @@ CATEGORIES = {'robot': EntityCategory.CATEGORY_ROBOT,
               'moving': EntityCategory.CATEGORY_DYNAMIC_OBJECT}
 
 
-def constant_names(message_class) -> dict:
+def constant_names(message_class: type) -> dict:
     """Return {value: NAME} of a message class's integer constants."""
     return {getattr(message_class, name): name for name in dir(message_class)
             if name.isupper() and isinstance(getattr(message_class, name), int)}
@@ -67,7 +67,7 @@ class Call:
     then: Callable = None
 
     @property
-    def is_action(self):
+    def is_action(self) -> bool:
         return self.kind is SimulateSteps
 
 

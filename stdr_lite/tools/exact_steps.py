@@ -36,7 +36,7 @@ class ExactSteps:
         self._parameters = AsyncParameterClient(node, simulator)
         self.rate_hz = None
 
-    def connect(self):
+    def connect(self) -> bool:
         """Wait briefly for the API and read the step rate; return whether it is there."""
         deadline = time.monotonic() + DISCOVERY_PATIENCE
         while not (self._state.service_is_ready() and self._steps.server_is_ready()
@@ -51,14 +51,14 @@ class ExactSteps:
         self.rate_hz = value.double_value
         return True
 
-    def pause(self):
+    def pause(self) -> bool:
         """Pause the simulation; return whether it was playing."""
         return self._set(SimulationState.STATE_PAUSED)
 
-    def play(self):
+    def play(self) -> None:
         self._set(SimulationState.STATE_PLAYING)
 
-    def take(self, steps):
+    def take(self, steps: int) -> None:
         """Take steps (paused), paced as the simulator paces its loop."""
         handle = self._wait(self._steps.send_goal_async(SimulateSteps.Goal(steps=steps)))
         if not handle.accepted:

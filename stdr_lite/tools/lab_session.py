@@ -1,5 +1,6 @@
 """The question-and-answer dialogue of the lab's move_robot tool, free of ROS."""
 
+from collections.abc import Callable
 import math
 
 from simple_robot_control.validation import describe, parse_decimal
@@ -9,12 +10,13 @@ class EndOfInput(Exception):
     """The user closed standard input (Ctrl-D or the end of a piped file)."""
 
 
-def format_pose(x, y, theta):
+def format_pose(x: float, y: float, theta: float) -> str:
     """Write the pose as the lab prints it, with theta in degrees."""
     return f'Current position, x: {x:.3f}, y: {y:.3f}, theta: {math.degrees(theta):.2f}'
 
 
-def ask_number(prompt, read_line, write, minimum=None):
+def ask_number(prompt: str, read_line: Callable[[], str | None], write: Callable[[str], object],
+               minimum: float | None = None) -> float:
     """
     Ask until the answer is a finite number (at least minimum, if given); return it.
 
@@ -35,7 +37,8 @@ def ask_number(prompt, read_line, write, minimum=None):
             return value
 
 
-def ask_motion(read_line, write):
+def ask_motion(read_line: Callable[[], str | None], write: Callable[[str], object]
+               ) -> tuple[float, float, float]:
     """Ask the lab's three questions; return (linear m/s, angular rad/s, duration s)."""
     linear = ask_number('Enter desired linear velocity: ', read_line, write)
     angular_degrees = ask_number('Enter desired rotational velocity: ', read_line, write)

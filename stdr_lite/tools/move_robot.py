@@ -189,7 +189,7 @@ class MoveRobot(GuardedNode):
             odometry = self._next_odometry(newer_than=odometry)
         return odometry
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Leave the robot standing still: publish a stop and wait until it is received."""
         self._commands.publish(0.0, 0.0)
         self._commands.publisher.wait_for_all_acked(Duration(seconds=STOP_DELIVERY))
@@ -221,7 +221,7 @@ def _write_stdout(text):
     sys.stdout.flush()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('move_robot', DESCRIPTION, MOVE_ROBOT_PARAMETERS)
     sys.exit(run('move_robot', parser, lambda options: MoveRobot(), argv))
 

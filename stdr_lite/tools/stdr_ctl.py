@@ -178,13 +178,13 @@ class StdrCtl(GuardedNode):
         if not self.finished.done():
             self.finished.set_result(code)
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Cancel a SimulateSteps goal still running (Ctrl-C), so the simulator stops it."""
         if self._call is not None and self._accepted_goal:
             self._cancel.call_async(CancelGoal.Request(goal_info=GoalInfo(goal_id=self._goal)))
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     keep_stdout_for_answers()
     sys.exit(run('stdr_ctl', build_arguments(), StdrCtl, argv))
 

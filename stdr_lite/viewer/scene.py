@@ -93,13 +93,13 @@ class Scene:
     looks: dict = field(default_factory=dict)
     obstacles: dict = field(default_factory=dict)
 
-    def set_map(self, cells, resolution, origin):
+    def set_map(self, cells: np.ndarray, resolution: float, origin: tuple) -> None:
         self.cells, self.resolution, self.origin = cells, resolution, origin
 
-    def robot(self, name):
+    def robot(self, name: str) -> RobotView:
         return self.robots.setdefault(name, RobotView())
 
-    def look(self, name):
+    def look(self, name: str) -> RobotLook:
         """
         Return the robot's look: as the simulator told it (markers, /tf_static), if it did.
 
@@ -107,20 +107,20 @@ class Scene:
         """
         return self.looks.get(name, self.default_look)
 
-    def own_look(self, name):
+    def own_look(self, name: str) -> RobotLook:
         """Return the robot's look to fill in, starting from the default one."""
         if name not in self.looks:
             default = self.default_look
             self.looks[name] = RobotLook(default.radius, dict(default.mounts), default.points)
         return self.looks[name]
 
-    def move(self, name, pose):
+    def move(self, name: str, pose: tuple) -> None:
         robot = self.robot(name)
         robot.pose = pose
         if not robot.trail or math.dist(robot.trail[-1], pose[:2]) > 0.01:
             robot.trail.append(pose[:2])
 
-    def extent(self):
+    def extent(self) -> tuple[float, float, float, float]:
         """Return (min x, min y, max x, max y) of the map, or of the robots without a map."""
         if self.cells is not None:
             height, width = self.cells.shape
@@ -139,21 +139,21 @@ class View:
         self.centre = centre
         self.scale = scale
 
-    def fit(self, extent):
+    def fit(self, extent: tuple[float, float, float, float]) -> None:
         low_x, low_y, high_x, high_y = extent
         self.centre = (0.5 * (low_x + high_x), 0.5 * (low_y + high_y))
         self.scale = 0.95 * min(self.size[0] / (high_x - low_x),
                                 self.size[1] / (high_y - low_y))
 
-    def to_screen(self, x, y):
+    def to_screen(self, x: float, y: float) -> tuple[float, float]:
         return (self.size[0] / 2 + (x - self.centre[0]) * self.scale,
                 self.size[1] / 2 - (y - self.centre[1]) * self.scale)
 
-    def to_world(self, column, row):
+    def to_world(self, column: float, row: float) -> tuple[float, float]:
         return (self.centre[0] + (column - self.size[0] / 2) / self.scale,
                 self.centre[1] - (row - self.size[1] / 2) / self.scale)
 
-    def zoom(self, factor, about):
+    def zoom(self, factor: float, about: tuple[float, float]) -> None:
         """Zoom by factor keeping the world point under the screen point about in place."""
         anchor = self.to_world(*about)
         self.scale = min(max(self.scale * factor, 2.0), 2000.0)
@@ -161,7 +161,7 @@ class View:
         self.centre = (self.centre[0] + anchor[0] - moved[0],
                        self.centre[1] + anchor[1] - moved[1])
 
-    def pan(self, columns, rows):
+    def pan(self, columns: float, rows: float) -> None:
         self.centre = (self.centre[0] - columns / self.scale, self.centre[1] + rows / self.scale)
 
 
@@ -173,7 +173,8 @@ class Painter:
         self._map_picture = None
         self._scaled = (None, None)
 
-    def draw(self, surface, scene, view, extra_text=''):
+    def draw(self, surface: pygame.Surface, scene: Scene, view: View,
+             extra_text: str = '') -> None:
         """
         Paint the scene onto surface.
 

@@ -71,7 +71,7 @@ def sane(*values) -> bool:
     return all(math.isfinite(value) and abs(value) <= FAR for value in values)
 
 
-def mount_of(parent, child) -> tuple[str, str]:
+def mount_of(parent: str, child: str) -> tuple[str, str]:
     """Return (robot, sensor frame) of a sensor's mount transform, or ('', '') for another."""
     robot, _, frame = child.rpartition('/')
     if robot and parent.startswith(f'{robot}/'):
@@ -153,7 +153,7 @@ class StdrViewer(GuardedNode):
         self.create_timer(1.0 / params['fps'], self._on_frame, clock=steady)
         self.discover_robots()
 
-    def discover_robots(self):
+    def discover_robots(self) -> None:
         """Subscribe to the topics of robots that appeared; forget those that went away."""
         present = set()
         for topic, types in self.get_topic_names_and_types():
@@ -280,7 +280,7 @@ class StdrViewer(GuardedNode):
             return
         self.scene.robot(robot).sonars[frame_id] = SonarReading(*cone, message.range)
 
-    def render_frame(self):
+    def render_frame(self) -> pygame.Surface:
         """Paint the scene onto the surface and return it."""
         times = self._frame_times
         times.append(time.monotonic())
@@ -320,7 +320,7 @@ class StdrViewer(GuardedNode):
         elif event.type == pygame.VIDEORESIZE:
             self.view.size = event.size
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Save the last frame when asked to, and close the window."""
         if self._screenshot:
             try:
@@ -335,7 +335,7 @@ class StdrViewer(GuardedNode):
             pygame.display.quit()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('stdr_viewer', DESCRIPTION, PARAMETERS)
     sys.exit(run('stdr_viewer', parser, lambda options: StdrViewer(), argv))
 
