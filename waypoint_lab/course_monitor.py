@@ -147,11 +147,11 @@ class CourseMonitor(GuardedNode):
             self._write('\r\x1b[K')
             self._progress_shown = False
 
-    def ending_allowance(self):
+    def ending_allowance(self) -> float:
         """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
         return 0.0 if self.recording is None else self.recording.finish_seconds()
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Finish the bag, so that even an interrupted run leaves a complete one."""
         self._clear_progress()
         if self.recording is not None:
@@ -163,7 +163,7 @@ def _write_stdout(text):
     sys.stdout.flush()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('course_monitor', DESCRIPTION, COURSE_MONITOR_PARAMETERS)
     parser.add_argument('waypoint_file', nargs='?', metavar='WAYPOINT_FILE',
                         help='the course the controller follows (for the waypoint count and '

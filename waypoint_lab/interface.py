@@ -6,17 +6,21 @@ the course by the same rules, declare its parameters with the same meaning (para
 and use the same QoS for robot_status, so any of them can watch or grade any other.
 """
 
+from collections.abc import Sequence
+
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
+from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from simple_robot_control.pose import set_pose
 from simple_robot_control.share import shared_file
 from simple_robot_control.validation import ConfigError, require
 from waypoint_lab.rules import BUNDLED_COURSE
-from waypoint_lab.waypoints import load_waypoints, WaypointFileError
+from waypoint_lab.waypoints import load_waypoints, Waypoint, WaypointFileError
 
 
-def load_course(node, argument, parameter):
+def load_course(node: Node, argument: str | None, parameter: str
+                ) -> tuple[str, list[Waypoint]]:
     """
     Return (path, waypoints) of the course from the argument, the parameter or the default.
 
@@ -36,7 +40,7 @@ def load_course(node, argument, parameter):
         raise ConfigError(str(error)) from None
 
 
-def course_message(waypoints, frame_id):
+def course_message(waypoints: Sequence[Waypoint], frame_id: str) -> Path:
     """Return the course as a nav_msgs/Path in frame_id, a pose per waypoint."""
     path = Path()
     path.header.frame_id = frame_id
@@ -48,7 +52,7 @@ def course_message(waypoints, frame_id):
     return path
 
 
-def status_qos(waypoint_count):
+def status_qos(waypoint_count: int) -> QoSProfile:
     """Reliable, transient local, and deep enough to replay a whole run to a late subscriber."""
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=waypoint_count + 2,
                       reliability=ReliabilityPolicy.RELIABLE,

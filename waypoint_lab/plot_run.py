@@ -42,7 +42,7 @@ def export_jsonl(run: Run, path: str | os.PathLike) -> None:
         stream.writelines(json.dumps(entry) + '\n' for entry in entries)
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> int:
     parser = OneLineParser(
         prog='plot_run', description='Draw a recorded run as a PNG: the map, the path coloured '
         'by time, each waypoint with its goal circle and heading, the poses reported on '

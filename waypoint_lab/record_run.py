@@ -32,16 +32,16 @@ class RunRecorder(GuardedNode):
         self.recording = BagRecording(self, bag or params['bag'], topics or params['topics'],
                                       send_times=True)
 
-    def ending_allowance(self):
+    def ending_allowance(self) -> float:
         """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
         return self.recording.finish_seconds()
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Finish the bag, so that an interrupted recording is complete and indexed."""
         self.recording.close()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('record_run', DESCRIPTION, RECORD_RUN_PARAMETERS)
     sys.exit(run('record_run', parser, lambda options: RunRecorder(), argv))
 

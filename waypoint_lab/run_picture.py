@@ -28,8 +28,8 @@ ZOOM_MARGIN = 1.0
 MAX_NUMBERED_WAYPOINTS = 100
 
 
-def render_run(run: Run, occupancy_map, robot_radius: float, output_path: str | os.PathLike,
-               title: str | None = None) -> None:
+def render_run(run: Run, occupancy_map: OccupancyMap, robot_radius: float,
+               output_path: str | os.PathLike, title: str | None = None) -> None:
     """Write a PNG of the run: walls, path coloured by time, goals, reports, footprints."""
     figure = Figure(figsize=FIGURE_SIZE, dpi=DPI, layout='constrained')
     FigureCanvasAgg(figure)

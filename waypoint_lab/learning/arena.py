@@ -15,7 +15,7 @@ import math
 import numpy as np
 from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.loading import load_world, robot_entries, robot_file
-from stdr_lite.core.robot_description import RobotEntry
+from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.world import PlacementError
 from waypoint_lab.learning import checks
 from waypoint_lab.learning.course_distribution import sample_course, sample_position
@@ -23,7 +23,7 @@ from waypoint_lab.learning.task import Courses, GOAL_FEATURES, observe, TaskSett
 from waypoint_lab.rules import START
 
 
-def laser_robot(robot: str, rays: int):
+def laser_robot(robot: str, rays: int) -> RobotDescription:
     """Return a robot's description with its first laser alone, cast with rays rays."""
     [entry] = robot_entries([('robot', START, robot_file(robot))])
     description = entry.description
@@ -101,7 +101,8 @@ class Arena:
                 or np.hypot(others[:, 0] - x, others[:, 1] - y).min() > 2 * self._clearance)
         return free
 
-    def restart(self, robot: int, rng: np.random.Generator, options: dict | None = None):
+    def restart(self, robot: int, rng: np.random.Generator,
+                options: dict | None = None) -> None:
         """
         Put a robot at a new start with a new course: from rng, unless options give them.
 

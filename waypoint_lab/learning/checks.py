@@ -18,14 +18,14 @@ MAX_HEADING = 2 * math.pi
 OPTION_KEYS = ('start', 'waypoints')
 
 
-def count(name: str, value, low: int = 1) -> int:
+def count(name: str, value: object, low: int = 1) -> int:
     """Return value as an int of at least low, or raise ValueError naming it."""
     if isinstance(value, bool) or not isinstance(value, Integral) or value < low:
         raise ValueError(f'{name} must be a whole number of at least {low}, got {value!r}')
     return int(value)
 
 
-def positive(name: str, value, at_most: float = math.inf) -> float:
+def positive(name: str, value: object, at_most: float = math.inf) -> float:
     """Return value as a finite float above 0 (and at most at_most), or raise ValueError."""
     if (isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value)
             or not 0 < value <= at_most):
@@ -34,7 +34,7 @@ def positive(name: str, value, at_most: float = math.inf) -> float:
     return float(value)
 
 
-def numbers(name: str, value, shape: tuple) -> np.ndarray:
+def numbers(name: str, value: object, shape: tuple) -> np.ndarray:
     """
     Return value as a float array of exactly shape, every element finite, or raise.
 
@@ -51,7 +51,7 @@ def numbers(name: str, value, shape: tuple) -> np.ndarray:
     return array
 
 
-def poses(name: str, value, rows: int | None = None) -> np.ndarray:
+def poses(name: str, value: object, rows: int | None = None) -> np.ndarray:
     """Return one pose, or rows of them, as (x, y, theta) checked; theta within a turn."""
     array = numbers(name, value, (3,) if rows is None else (rows, 3))
     headings = array[..., 2]
@@ -61,7 +61,8 @@ def poses(name: str, value, rows: int | None = None) -> np.ndarray:
     return array
 
 
-def task(waypoints, distance_tolerance: float, angle_tolerance: float, laser_rays,
+def task(waypoints: object, distance_tolerance: float, angle_tolerance: float,
+         laser_rays: object,
          max_linear_speed: float, max_angular_speed: float, random_start: bool) -> TaskSettings:
     """Return the task of an environment's parameters (angle_tolerance in degrees), checked."""
     return TaskSettings(
@@ -71,7 +72,7 @@ def task(waypoints, distance_tolerance: float, angle_tolerance: float, laser_ray
         positive('max_angular_speed', max_angular_speed), random_start=bool(random_start))
 
 
-def options(given, keys: tuple = OPTION_KEYS) -> dict:
+def options(given: object, keys: tuple = OPTION_KEYS) -> dict:
     """Return reset options as a dict, refusing any key but keys."""
     if given is None:
         return {}
@@ -83,7 +84,7 @@ def options(given, keys: tuple = OPTION_KEYS) -> dict:
     return given
 
 
-def per_agent(given, agents: list) -> dict:
+def per_agent(given: object, agents: list) -> dict:
     """Return PettingZoo reset options ({key: {agent: value}}), refusing unknown agents."""
     checked = options(given)
     for key, values in checked.items():

@@ -13,9 +13,16 @@ wall, else clearance (0.4 m). Headings are uniform. The bundled courses (back-up
 in place, a square, headings across +-180 degrees) are all of this distribution.
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # task.py's settings; the task draws its courses from here
+    from waypoint_lab.learning.task import TaskSettings
 
 TURN = 0.1
 REVISIT = 0.1
@@ -24,7 +31,8 @@ NEAR_WALL = 0.25
 ATTEMPTS = 10_000
 
 
-def sample_course(rng: np.random.Generator, is_free, start: tuple, settings,
+def sample_course(rng: np.random.Generator, is_free: Callable, start: tuple,
+                  settings: TaskSettings,
                   bounds: tuple, radius: float) -> np.ndarray:
     """
     Draw a course of settings.waypoints waypoints (K x 3) from start.
@@ -51,7 +59,8 @@ def sample_course(rng: np.random.Generator, is_free, start: tuple, settings,
     return np.array(waypoints)
 
 
-def sample_position(rng: np.random.Generator, is_free, bounds: tuple, clearance: float,
+def sample_position(rng: np.random.Generator, is_free: Callable, bounds: tuple,
+                    clearance: float,
                     fallback: tuple) -> tuple:
     """Draw a position anywhere on the map where a disc of clearance fits (else fallback)."""
     return _leg_end(rng, is_free, fallback, None, bounds, clearance)

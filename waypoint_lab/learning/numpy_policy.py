@@ -11,6 +11,7 @@ scripts/train_policy.py writes such files; the bundled one is
 waypoint_lab/learning/policies/waypoints_ppo.npz.
 """
 
+from collections.abc import Callable
 from importlib import resources
 import zipfile
 
@@ -75,7 +76,8 @@ class NumpyPolicy:
         return np.clip(values @ weight.T + bias, self.low, self.high)
 
 
-def success_rate(policy, courses: int = 200, seed: int = 1_000_000, **parameters) -> float:
+def success_rate(policy: Callable[[np.ndarray], np.ndarray], courses: int = 200,
+                 seed: int = 1_000_000, **parameters) -> float:
     """
     Return the share of courses the policy finishes within the step limit.
 

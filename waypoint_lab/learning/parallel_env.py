@@ -13,6 +13,7 @@ acts and is rewarded as in waypoint_lab/Waypoints-v0. reset(seed) seeds agent i 
 import functools
 import math
 
+from gymnasium import spaces
 import numpy as np
 from pettingzoo import ParallelEnv
 from waypoint_lab.learning import checks, MAX_EPISODE_STEPS
@@ -54,14 +55,15 @@ class WaypointsParallelEnv(ParallelEnv):
         self._picture = None
 
     @functools.lru_cache(maxsize=None)
-    def observation_space(self, agent):
+    def observation_space(self, agent: str) -> spaces.Box:
         return self._spaces[0]
 
     @functools.lru_cache(maxsize=None)
-    def action_space(self, agent):
+    def action_space(self, agent: str) -> spaces.Box:
         return self._spaces[1]
 
-    def reset(self, seed=None, options=None):
+    def reset(self, seed: int | None = None, options: dict | None = None
+              ) -> tuple[dict, dict]:
         if seed is not None:
             self._generators = [np.random.default_rng(seed + index)
                                 for index in range(len(self.possible_agents))]
@@ -79,7 +81,7 @@ class WaypointsParallelEnv(ParallelEnv):
         return ({agent: observations[self._index[agent]].copy() for agent in self.agents},
                 self._infos(reached))
 
-    def step(self, actions):
+    def step(self, actions: dict) -> tuple[dict, dict, dict, dict, dict]:
         """Step every live agent; an action for an agent that has left is ignored."""
         if not isinstance(actions, dict):
             raise ValueError(f'actions must map agents to actions, got {actions!r}')
@@ -113,14 +115,14 @@ class WaypointsParallelEnv(ParallelEnv):
                         'reached': bool(reached[index])}
                 for agent, index in self._index.items() if agent in self.agents}
 
-    def render(self):
+    def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             return None
         if self._picture is None:
             self._picture = ArenaPicture(self.arena, self.render_mode)
         return self._picture.draw(self.arena.ranges, f'{len(self.agents)} robots driving')
 
-    def close(self):
+    def close(self) -> None:
         if self._picture is not None:
             self._picture.close()
             self._picture = None

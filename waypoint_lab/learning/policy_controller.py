@@ -22,6 +22,7 @@ from stdr_lite.core.sensors import relative_angles
 from waypoint_lab.learning.arena import laser_robot
 from waypoint_lab.learning.numpy_policy import NumpyPolicy, PolicyFileError
 from waypoint_lab.learning.task import observe, TaskSettings
+from waypoint_lab.lifecycle import ControlLaw, RunRules
 from waypoint_lab.parameters import POLICY_CONTROLLER_PARAMETERS
 from waypoint_lab.runner import (CourseRunner, NOT_YET, READY, run_controller, run_rules,
                                  WAIT)
@@ -53,10 +54,10 @@ class PolicyLaw:
         self._goal = self._waypoints[:1]
         self.ranges = None
 
-    def aim(self, pose, index):
+    def aim(self, pose: tuple, index: int) -> None:
         self._goal = self._waypoints[index:index + 1]
 
-    def command(self, pose, dt):
+    def command(self, pose: tuple, dt: float) -> tuple[float, float]:
         observation = observe(self.ranges[None, :], self._max_range,
                               np.asarray(pose, dtype=float)[None, :], self._goal)[0]
         return tuple(np.asarray(self._policy(observation), dtype=float).reshape(2))
@@ -86,7 +87,7 @@ class PolicyController(CourseRunner):
         self._scan_topic = self.create_subscription(
             LaserScan, f'{self.params["robot_name"]}/{laser}', self._on_scan, 10).topic_name
 
-    def build_law(self, params, waypoints):
+    def build_law(self, params: dict, waypoints: list) -> tuple[ControlLaw, RunRules]:
         policy = self._policy
         if policy is None:
             try:
@@ -100,13 +101,13 @@ class PolicyController(CourseRunner):
                                     max_angular_speed=task.max_angular_speed,
                                     control_period_ns=round(1e9 / self._rate_hz))
 
-    def inputs_ready(self, stamp_ns):
+    def inputs_ready(self, stamp_ns: int) -> str:
         """Act once a scan came, each time on the scan of the laser's period up to stamp_ns."""
         if self._scan_stamp is None:
             return NOT_YET
         return READY if self._scan_stamp > stamp_ns - self._scan_period_ns else WAIT
 
-    def waiting_for(self):
+    def waiting_for(self) -> str:
         return f'a scan on {self._scan_topic}'
 
     def _on_scan(self, message):
@@ -118,7 +119,7 @@ class PolicyController(CourseRunner):
         self.answer_waiting()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     run_controller('policy_controller', DESCRIPTION, POLICY_CONTROLLER_PARAMETERS,
                    lambda waypoint_file: PolicyController(waypoint_file=waypoint_file), argv)
 

@@ -39,7 +39,7 @@ class ArenaPicture:
         self.view.fit(self.scene.extent())
         self.painter = Painter(pygame.font.Font(None, 20))
 
-    def draw(self, ranges: np.ndarray, status: str):
+    def draw(self, ranges: np.ndarray, status: str) -> np.ndarray | None:
         """Paint the arena now, its robots' lasers reading ranges; return the frame or None."""
         laser = self.arena.laser
         increment = (laser.max_angle - laser.min_angle) / max(laser.num_rays - 1, 1)
@@ -67,6 +67,6 @@ class ArenaPicture:
                 pygame.draw.circle(self.surface, colour, centre, radius, 2)
                 pygame.draw.line(self.surface, colour, centre, tip, 2)
 
-    def close(self):
+    def close(self) -> None:
         if self.mode == 'human':
             pygame.display.quit()

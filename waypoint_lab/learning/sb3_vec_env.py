@@ -10,8 +10,13 @@ import, so it is tested where SB3 is not installed; sb3_vec_env() makes one an i
 VecEnv (SB3 checks the class) where SB3 is.
 """
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from waypoint_lab.learning.vector_env import WaypointsVectorEnv
+
+if TYPE_CHECKING:  # stable-baselines3 is optional: imported only to make one
+    from stable_baselines3.common.vec_env import VecEnv
 
 
 class SB3Steps:
@@ -63,22 +68,23 @@ class SB3Steps:
             return range(self.num_envs)
         return [indices] if isinstance(indices, int) else indices
 
-    def get_attr(self, attr_name: str, indices=None) -> list:
+    def get_attr(self, attr_name: str, indices: object = None) -> list:
         """Return the attribute of each sub-environment asked for: the vector's, shared."""
         return [getattr(self.env, attr_name) for _ in self._indices(indices)]
 
-    def set_attr(self, attr_name: str, value, indices=None) -> None:
+    def set_attr(self, attr_name: str, value: object, indices: object = None) -> None:
         setattr(self.env, attr_name, value)
 
-    def env_method(self, method_name: str, *method_args, indices=None, **method_kwargs) -> list:
+    def env_method(self, method_name: str, *method_args, indices: object = None,
+                   **method_kwargs) -> list:
         result = getattr(self.env, method_name)(*method_args, **method_kwargs)
         return [result for _ in self._indices(indices)]
 
-    def env_is_wrapped(self, wrapper_class, indices=None) -> list:
+    def env_is_wrapped(self, wrapper_class: type, indices: object = None) -> list:
         return [False for _ in self._indices(indices)]
 
 
-def sb3_vec_env(num_envs: int = 8, **parameters):
+def sb3_vec_env(num_envs: int = 8, **parameters) -> 'VecEnv':
     """Return SB3Steps as a stable_baselines3 VecEnv (needs stable-baselines3 installed)."""
     from stable_baselines3.common.vec_env import VecEnv
 

@@ -62,7 +62,8 @@ class WaypointsVectorEnv(VectorEnv):
         self._generators = [np.random.default_rng() for _ in range(num_envs)]
         self._picture = None
 
-    def reset(self, *, seed=None, options=None):
+    def reset(self, *, seed: int | None = None, options: dict | None = None
+              ) -> tuple[np.ndarray, dict]:
         options = checks.options(options)
         if seed is not None:
             seeds = (seed if isinstance(seed, (list, tuple))
@@ -79,7 +80,8 @@ class WaypointsVectorEnv(VectorEnv):
         self._ended[:] = False
         return self.arena.observations().copy(), self._infos()
 
-    def step(self, actions):
+    def step(self, actions: np.ndarray
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict]:
         actions = checks.numbers('actions', actions, (self.num_envs, 2))
         restarting = self._ended.copy()
         actions[restarting] = 0.0
@@ -120,7 +122,7 @@ class WaypointsVectorEnv(VectorEnv):
         return {'pose': self.arena.poses.copy(), 'waypoint': self.arena.courses.next.copy(),
                 'reached': reached}
 
-    def render(self):
+    def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             gym.logger.warn('render() without a render_mode')
             return None
@@ -128,7 +130,7 @@ class WaypointsVectorEnv(VectorEnv):
             self._picture = ArenaPicture(self.arena, self.render_mode)
         return self._picture.draw(self.arena.ranges, f'{self.num_envs} robots')
 
-    def close_extras(self, **kwargs):
+    def close_extras(self, **kwargs) -> None:
         if self._picture is not None:
             self._picture.close()
             self._picture = None

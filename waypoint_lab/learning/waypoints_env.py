@@ -63,7 +63,8 @@ class WaypointsEnv(gym.Env):
         self._picture = None
         self._status = ''
 
-    def reset(self, *, seed=None, options=None):
+    def reset(self, *, seed: int | None = None, options: dict | None = None
+              ) -> tuple[np.ndarray, dict]:
         options = checks.options(options)
         super().reset(seed=seed)
         self.arena.simulation.reset(seed=int(self.np_random.integers(2 ** 31)))
@@ -72,7 +73,7 @@ class WaypointsEnv(gym.Env):
         self._status = 'STARTED'
         return self.arena.observations()[0].copy(), self._info(False)
 
-    def step(self, action):
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         self.arena.act(checks.numbers('action', action, (2,))[None, :])
         reward, reached, finished = self.arena.step()
         if reached[0]:
@@ -85,7 +86,7 @@ class WaypointsEnv(gym.Env):
         return {'pose': self.arena.poses[0], 'waypoint': int(self.arena.courses.next[0]),
                 'reached': reached}
 
-    def render(self):
+    def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             gym.logger.warn('render() without a render_mode: give render_mode="rgb_array" or '
                             '"human" to gym.make')
@@ -94,7 +95,7 @@ class WaypointsEnv(gym.Env):
             self._picture = ArenaPicture(self.arena, self.render_mode)
         return self._picture.draw(self.arena.ranges, self._status)
 
-    def close(self):
+    def close(self) -> None:
         if self._picture is not None:
             self._picture.close()
             self._picture = None
