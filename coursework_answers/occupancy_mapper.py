@@ -14,6 +14,7 @@ import array
 from collections import deque
 import sys
 
+from builtin_interfaces.msg import Time as TimeMsg
 from coursework_answers.parameters import OCCUPANCY_MAPPER_PARAMETERS
 from nav_msgs.msg import MapMetaData, OccupancyGrid, Odometry
 import numpy as np
@@ -107,7 +108,7 @@ class OccupancyMapper(GuardedNode):
         if self.scans % self.params['publish_every'] == 0:
             self.publish_map(scan.header.stamp)
 
-    def publish_map(self, stamp=None) -> None:
+    def publish_map(self, stamp: TimeMsg | None = None) -> None:
         """Publish the map as it stands (nothing before the geometry is known)."""
         if self.mapper is None:
             return
@@ -117,12 +118,12 @@ class OccupancyMapper(GuardedNode):
         message.data = array.array('b', self.mapper.cells().tobytes())
         self._publisher.publish(message)
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Publish the last map, for whoever reads it after the run."""
         self.publish_map()
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('occupancy_mapper', DESCRIPTION, OCCUPANCY_MAPPER_PARAMETERS)
     sys.exit(run('occupancy_mapper', parser, lambda options: OccupancyMapper(), argv))
 

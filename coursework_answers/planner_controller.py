@@ -14,6 +14,8 @@ coursework's reference answer.
 import math
 
 from coursework_answers.parameters import PLANNER_CONTROLLER_PARAMETERS
+from simple_robot_control.occupancy_map import OccupancyMap
+from waypoint_lab.lifecycle import ControlLaw, RunRules
 from waypoint_lab.runner import (CourseRunner, NOT_YET, READY, run_controller, run_rules,
                                  WAIT)
 
@@ -30,7 +32,7 @@ class PlannerController(CourseRunner):
         super().__init__('planner_controller', PLANNER_CONTROLLER_PARAMETERS, waypoint_file,
                          **kwargs)
 
-    def build_law(self, params, waypoints):
+    def build_law(self, params: dict, waypoints: list) -> tuple[ControlLaw, RunRules]:
         # Imported with the node: scipy and the compiled rays load while discovery runs.
         from coursework_answers.explorer_law import ExplorerLaw
         from coursework_answers.route_law import RouteLaw
@@ -47,14 +49,14 @@ class PlannerController(CourseRunner):
             self._law = RouteLaw(waypoints, radius, margin, config)
         return self._law, run_rules(params)
 
-    def plans_around_walls(self):
+    def plans_around_walls(self) -> bool:
         return True
 
-    def use_map(self, grid):
+    def use_map(self, grid: OccupancyMap) -> None:
         self._law.use_map(grid)
         self.answer_waiting()
 
-    def inputs_ready(self, stamp_ns):
+    def inputs_ready(self, stamp_ns: int) -> str:
         """With max_map_age, wait for a map of the mapper's no older than that before the pose."""
         age_ns = round(self.params['max_map_age'] * 1e9)
         if not age_ns:
@@ -63,12 +65,12 @@ class PlannerController(CourseRunner):
             return NOT_YET
         return READY if self.map_stamp_ns >= stamp_ns - age_ns else WAIT
 
-    def waiting_for(self):
+    def waiting_for(self) -> str:
         return (f'a map on {self.params["map_topic"]} stamped within '
                 f'{self.params["max_map_age"]:g} s of the odometry')
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     run_controller('planner_controller', DESCRIPTION, PLANNER_CONTROLLER_PARAMETERS,
                    PlannerController, argv)
 

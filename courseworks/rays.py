@@ -7,6 +7,7 @@ the reference mapper, which turns each measured range into free and occupied evi
 of 4 m over 5 cm cells visits about 100 cells; a 667-ray scan costs well under a millisecond.
 """
 
+from collections.abc import Callable
 import math
 
 from numba import njit
@@ -14,7 +15,8 @@ import numpy as np
 
 
 @njit(cache=True)
-def trace(walls, x, y, angle, max_range, visit_free, visit_wall):
+def trace(walls: np.ndarray, x: float, y: float, angle: float, max_range: float,
+          visit_free: Callable, visit_wall: Callable) -> None:
     """
     Walk a ray from (x, y) (in cells) until a wall cell or max_range (in cells).
 
@@ -56,8 +58,9 @@ def trace(walls, x, y, angle, max_range, visit_free, visit_wall):
 
 
 @njit(cache=True)
-def cast_scan(walls, x, y, heading, first_angle, increment, count, max_range, visit_free,
-              visit_wall):
+def cast_scan(walls: np.ndarray, x: float, y: float, heading: float, first_angle: float,
+              increment: float, count: int, max_range: float, visit_free: Callable,
+              visit_wall: Callable) -> None:
     """Trace count rays of a laser at (x, y, heading) in cells, angles from first_angle."""
     for ray in range(count):
         trace(walls, x, y, heading + first_angle + ray * increment, max_range, visit_free,
@@ -65,8 +68,9 @@ def cast_scan(walls, x, y, heading, first_angle, increment, count, max_range, vi
 
 
 @njit(cache=True)
-def integrate_ranges(x, y, heading, first_angle, increment, ranges, max_range, free_hits,
-                     wall_hits, no_walls):
+def integrate_ranges(x: float, y: float, heading: float, first_angle: float, increment: float,
+                     ranges: np.ndarray, max_range: float, free_hits: np.ndarray,
+                     wall_hits: np.ndarray, no_walls: np.ndarray) -> None:
     """
     Count a measured scan's evidence: cells before each return free, the return's cell a wall.
 

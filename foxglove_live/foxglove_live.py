@@ -45,11 +45,11 @@ class FoxgloveLive(GuardedNode):
         if warning:
             self.get_logger().warn(warning)
 
-    def ending_allowance(self):
+    def ending_allowance(self) -> float:
         """Return the seconds finishing the bag may take, for the end after Ctrl-C."""
         return 0.0 if self.recording is None else self.recording.finish_seconds()
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """Disconnect the clients; finish the bag, if any."""
         self.live.close()
         if self.recording is not None:
@@ -81,7 +81,7 @@ def url_host(host: str) -> str:
     return f'[{host}]' if ':' in host else host
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = build_parser('foxglove_live', DESCRIPTION, PARAMETERS)
     sys.exit(run('foxglove_live', parser, lambda options: FoxgloveLive(), argv))
 

@@ -21,6 +21,7 @@ from fnmatch import fnmatchcase
 import math
 import threading
 
+from foxglove.websocket import ClientChannel
 from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.serialization import deserialize_message
 
@@ -66,7 +67,7 @@ class CommandChannels:
 
     # Called by the SDK's threads.
 
-    def advertised(self, client_id: int, channel) -> None:
+    def advertised(self, client_id: int, channel: ClientChannel) -> None:
         """Claim a client's new channel within the bounds, or refuse it at once."""
         key = (client_id, channel.id)
         problem = self._shape_problem(channel)

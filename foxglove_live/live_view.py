@@ -202,7 +202,7 @@ class LiveView:
 
     # Called by the SDK's threads (see _Listener): they note, the executor acts.
 
-    def watched(self, channel_id, change):
+    def watched(self, channel_id: int, change: int) -> None:
         with self._lock:
             self._watchers[channel_id] += change
             if change > 0:
@@ -216,7 +216,7 @@ class LiveView:
         self.server.publish_status(text, StatusLevel.Error)
         self._node.get_logger().warn(text)
 
-    def close(self):
+    def close(self) -> None:
         """Stop serving: clients are disconnected."""
         self.server.stop()
         self._log.close()

@@ -30,8 +30,8 @@ from lab_grader.grading import RunEvidence
 from lab_grader.jail import SANDBOX_HOME
 from lab_grader.publishers import find_intruders, socket_owners, strangers
 from lab_grader.recorder import GradingRecorder
-from lab_grader.run_environment import (course_environment, PLACEHOLDER, simulator_command,
-                                        submission_environment)
+from lab_grader.run_environment import (course_environment, PLACEHOLDER, RunSettings,
+                                        simulator_command, submission_environment)
 from lab_grader.sandbox import NAMESPACES, network_of_its_own
 from lab_grader.simulator_link import SimulatorLink
 from lab_grader.submission_process import Submission
@@ -42,6 +42,7 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 from simple_robot_control.validation import ConfigError
+from waypoint_lab.course import Course
 
 SIMULATOR_START = 60.0
 # How long the submission has to make its robot_status publisher before the simulation plays,
@@ -77,7 +78,8 @@ class Foul(Exception):
     """The submission did what ends a run at once and fails the course (the message says what)."""
 
 
-def run_course(course, settings, folder, stopping: threading.Event) -> RunEvidence:
+def run_course(course: Course, settings: RunSettings, folder: Path,
+               stopping: threading.Event) -> RunEvidence:
     """Run one course for the submission in folder (made if need be) and return its result."""
     folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)

@@ -11,6 +11,7 @@ submission, graded by the same command run in that folder.
 Exit code 0 when every course of every submission passes, 1 otherwise, 2 for bad input.
 """
 
+import argparse
 from concurrent.futures import as_completed, ThreadPoolExecutor
 import ctypes
 import json
@@ -65,7 +66,7 @@ DESCRIPTION = ('Grade a lab controller on courses it has not seen, as the tick-o
                'waypoint file goes.')
 
 
-def build_parser():
+def build_parser() -> OneLineParser:
     parser = OneLineParser(prog='grade_lab', description=DESCRIPTION, usage=(
         'grade_lab --courses DIR_OR_FILES [--submissions DIR] [--jobs N] [--report DIR] '
         f'[--lockstep] ... -- COMMAND ... {PLACEHOLDER} ...'))
@@ -108,7 +109,7 @@ def build_parser():
     return parser
 
 
-def parse(argv):
+def parse(argv: list[str]) -> tuple[argparse.Namespace, list[str]]:
     """Return (options, command); exit 2 with one line for bad input."""
     parser = build_parser()
     split = argv.index('--') if '--' in argv else len(argv)
@@ -141,7 +142,7 @@ def parse(argv):
     return options, command
 
 
-def command_problem(command, submissions):
+def command_problem(command: list[str], submissions: list[tuple[str, Path]]) -> str:
     """Say why the command cannot start in some submission's folder, or return ''."""
     program = command[0]
     if '/' not in program:
@@ -154,7 +155,7 @@ def command_problem(command, submissions):
     return ''
 
 
-def submissions_of(options):
+def submissions_of(options: argparse.Namespace) -> list[tuple[str, Path]]:
     """Return (name, folder) of each submission: the folders of --submissions, or this one."""
     if not options.submissions:
         return [(Path.cwd().name or 'submission', Path.cwd())]
@@ -180,7 +181,7 @@ class Grading:
         self.hidden = tuple(str(Path(path).resolve()) for path in options.courses) + (
             (str(folder),) if options.report else ())
 
-    def run(self):
+    def run(self) -> list[SubmissionVerdict]:
         """Return a SubmissionVerdict per submission, its courses in course order."""
         verdicts = {name: {} for name, _ in self.submissions}
         jobs = [(name, cwd, course) for name, cwd in self.submissions for course in self.courses]
@@ -220,7 +221,8 @@ class Grading:
         return verdict
 
 
-def write_reports(options, command, submissions, folder) -> list[str]:
+def write_reports(options: argparse.Namespace, command: list[str],
+                  submissions: list[SubmissionVerdict], folder: Path) -> list[str]:
     """
     Write report.md and junit.xml, and each submission's Gradescope and Classroom files.
 
@@ -287,7 +289,8 @@ def hide_arguments() -> list[str]:
     return arguments
 
 
-def sandbox_policy(options, courses, folder, submissions) -> SandboxPolicy:
+def sandbox_policy(options: argparse.Namespace, courses: list[Course], folder: Path | None,
+                   submissions: list[tuple[str, Path]]) -> SandboxPolicy:
     """
     Return how the submissions are sealed off, checked: SandboxError says why it cannot be.
 
@@ -327,7 +330,7 @@ def sandbox_policy(options, courses, folder, submissions) -> SandboxPolicy:
     return sandbox
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> int:
     argv = hide_arguments() if argv is None else list(argv)
     options, command = parse(argv)
     rmw = os.environ.get('RMW_IMPLEMENTATION', '') or GRADED_RMW

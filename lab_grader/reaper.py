@@ -83,7 +83,7 @@ def _kill_descendants():
             return
 
 
-def main(argv):
+def main(argv: list[str]) -> int:
     status_fd, memory_mb, parent, jail_fd, separator, *command = argv
     if separator != '--' or not command:
         print('usage: python -I reaper.py STATUS_FD MEMORY_MB PARENT_PID JAIL_FD -- COMMAND ...',

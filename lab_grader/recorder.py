@@ -7,6 +7,7 @@ the world's geometry could be), and reads the graph for who publishes where. Wha
 run is so bounded whatever the submission sends, but for the one message being received.
 """
 
+from collections.abc import Iterable
 import time
 
 from courseworks.courses import submitted_map_topic
@@ -21,6 +22,7 @@ from simple_robot_control.guarded_node import GuardedNode
 from simple_robot_control.occupancy_map import load_map, MapError, MAX_CELLS, OccupancyMap
 from std_msgs.msg import String
 from stdr_lite.core.loading import map_file
+from waypoint_lab.course import Course
 from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
 from waypoint_lab.status import parse_status
 
@@ -46,7 +48,7 @@ SIMULATOR_TOPICS = ('/clock', '/map', '/tf', '/tf_static')
 ROBOT_TOPICS = ('odom', 'ground_truth', 'stall')
 
 
-def status_limit(course) -> int:
+def status_limit(course: Course) -> int:
     """Return the most robot_status messages a run may send: ten times an honest run's, +100."""
     return 10 * (len(course.waypoints) + 2) + 100
 
@@ -156,7 +158,7 @@ class GradingRecorder(GuardedNode):
         if status is not None and status.ends_run and self.ended_at is None:
             self.ended_at = time.monotonic()
 
-    def publishers(self, topics) -> list[Publisher]:
+    def publishers(self, topics: Iterable[str]) -> list[Publisher]:
         """Return every publisher the graph shows on topics."""
         return [Publisher(topic, f'{info.node_namespace.rstrip("/")}/{info.node_name}',
                           bytes(info.endpoint_gid))

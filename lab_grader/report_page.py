@@ -10,6 +10,7 @@ ROS here.
 from datetime import datetime
 from pathlib import Path
 
+from lab_grader.grading import CourseVerdict, SubmissionVerdict
 from lab_grader.reports import figures, MARKS, RULES, terminal_table
 from simple_robot_control.occupancy_map import load_map, MapError
 from simple_robot_control.share import BUNDLED_MAP, BUNDLED_RESOURCES, shared_file
@@ -18,7 +19,7 @@ from stdr_lite.core.robot_description import load_robot, RobotFileError
 LAB_ROBOT_RADIUS = 0.2
 
 
-def draw_course(verdict) -> str:
+def draw_course(verdict: CourseVerdict) -> str:
     """
     Draw a judged course's run as run.png beside its bag; return why not, or ''.
 
@@ -45,7 +46,8 @@ def draw_course(verdict) -> str:
     return ''
 
 
-def markdown_report(submissions, command, settings_line, report_folder: Path) -> str:
+def markdown_report(submissions: list[SubmissionVerdict], command: list[str],
+                    settings_line: str, report_folder: Path) -> str:
     """Return the report page: the table, the rules, then every course's checks and picture."""
     lines = ['# Tick-off sheet', '',
              f'Graded {datetime.now().astimezone():%Y-%m-%d %H:%M %Z} by `grade_lab`: '

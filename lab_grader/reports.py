@@ -14,7 +14,7 @@ import math
 import re
 from xml.etree import ElementTree
 
-from lab_grader.grading import ERROR, PASS
+from lab_grader.grading import CourseVerdict, ERROR, PASS, SubmissionVerdict
 from lab_grader.verdicts import HEADING_MATCH, LATENCY, POSITION_MATCH, SLACK
 
 MARKS = {PASS: 'PASS', 'fail': 'FAIL', ERROR: 'ERROR'}
@@ -29,7 +29,7 @@ def _points(value):
     return f'{value:g}'
 
 
-def check_lines(verdict, passed_too=True) -> list[str]:
+def check_lines(verdict: CourseVerdict, passed_too: bool = True) -> list[str]:
     """Return a course's checks as lines 'PASS name: evidence' (failures only if asked)."""
     if verdict.error:
         return [f'ERROR {verdict.error}']
@@ -37,7 +37,7 @@ def check_lines(verdict, passed_too=True) -> list[str]:
             for check in verdict.checks if passed_too or not check.passed]
 
 
-def figures(verdict) -> str:
+def figures(verdict: CourseVerdict) -> str:
     """Say how long the course took and how far the robot drove, where measured."""
     parts = []
     if verdict.time_taken is not None:
@@ -47,7 +47,7 @@ def figures(verdict) -> str:
     return ', '.join(parts) or '-'
 
 
-def terminal_table(submissions) -> str:
+def terminal_table(submissions: list[SubmissionVerdict]) -> str:
     """Return the tick-off sheet: a row per course (one submission) or per submission."""
     if len(submissions) == 1:
         return _course_table(submissions[0])
@@ -97,7 +97,7 @@ def _xml_text(text):
     return _NOT_IN_XML.sub('\ufffd', text)
 
 
-def junit_xml(submissions) -> bytes:
+def junit_xml(submissions: list[SubmissionVerdict]) -> bytes:
     """Return JUnit XML: a suite per submission and course, a test case per check."""
     root = ElementTree.Element('testsuites', name='grade_lab')
     totals = {'tests': 0, 'failures': 0, 'errors': 0}
@@ -131,7 +131,7 @@ def junit_xml(submissions) -> bytes:
     return ElementTree.tostring(root, encoding='utf-8', xml_declaration=True)
 
 
-def gradescope_results(submission) -> str:
+def gradescope_results(submission: SubmissionVerdict) -> str:
     """Return Gradescope's results.json of one submission: a test per course."""
     tests = [{'name': verdict.course.name, 'score': verdict.score,
               'max_score': verdict.course.points,
@@ -144,7 +144,7 @@ def gradescope_results(submission) -> str:
                        'visibility': 'visible', 'tests': tests}, indent=2)
 
 
-def classroom_result(submission, command) -> str:
+def classroom_result(submission: SubmissionVerdict, command: list[str]) -> str:
     """Return GitHub Classroom's runner result of one submission: a test per course."""
     tests = [{'name': verdict.course.name, 'status': verdict.status,
               'score': verdict.score, 'message': '\n'.join(check_lines(verdict)),

@@ -18,6 +18,7 @@ from pathlib import Path
 from courseworks.courses import world_parameters
 from lab_grader.sandbox import SandboxPolicy
 from simple_robot_control.share import installed_executable, shared_file
+from waypoint_lab.course import Course
 import yaml
 
 PLACEHOLDER = '{waypoints}'
@@ -66,7 +67,8 @@ def submission_environment(course_environment: dict, working: Path | str,
                 ROS_LOG_DIR=f'{folder}/log')
 
 
-def simulator_command(course, settings, link_descriptor, folder) -> list[str]:
+def simulator_command(course: Course, settings: 'RunSettings', link_descriptor: int,
+                      folder: Path) -> list[str]:
     """
     Return the stdr_lite command line of a course: supervised, at the course's start.
 

@@ -206,7 +206,7 @@ def _descendants(process):
         return []
 
 
-def sandbox_problem(jail: dict, env: dict, output_path) -> str:
+def sandbox_problem(jail: dict, env: dict, output_path: Path) -> str:
     """
     Say why a submission could not run this package's Python in its sandbox ('' if it can).
 

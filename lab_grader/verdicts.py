@@ -12,9 +12,11 @@ reported (within POSITION_MATCH and HEADING_MATCH: the lab prints poses to a few
 from dataclasses import dataclass
 import math
 
+from lab_grader.simulator_link import SpeedLimits
 import numpy as np
 from waypoint_lab.course import goal_errors, in_goal_set
 from waypoint_lab.rules import WAYPOINTS_TASK
+from waypoint_lab.run import Run
 from waypoint_lab.status import FINISHED, STARTED, UNREACHABLE, WAYPOINT
 
 LATENCY = 0.5
@@ -332,7 +334,7 @@ def _exit_text(code):
     return f'exit code {code}'
 
 
-def undrivable(run, limits) -> str:
+def undrivable(run: Run, limits: SpeedLimits | None) -> str:
     """Say where the true path jumps faster than the speed limits allow, or return ''."""
     if limits is None or len(run.times) < 2:
         return ''

@@ -14,6 +14,7 @@ A bag the disk stops taking (full) ends the recording with one line, never the n
 """
 
 from collections import Counter
+from collections.abc import Callable
 from fnmatch import fnmatchcase
 import hashlib
 import importlib
@@ -23,6 +24,7 @@ import time
 from rclpy.clock import Clock, ClockType
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.subscription import Subscription
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from simple_robot_control.bag import BagError, BagWriter, RUN_METADATA
 from simple_robot_control.input_files import output_problem
@@ -37,7 +39,7 @@ GRAPH_WORK = 0.05
 CATCH_UP_PERIOD = 0.005
 
 
-def offered(profile):
+def offered(profile: QoSProfile) -> dict:
     """Return a publisher's QoS profile as rosbag2 writes it (bag version 9)."""
     def duration(value):
         seconds, nanoseconds = divmod(value.nanoseconds, 10 ** 9)
@@ -51,7 +53,7 @@ def offered(profile):
             'avoid_ros_namespace_conventions': profile.avoid_ros_namespace_conventions}
 
 
-def message_class(type_name):
+def message_class(type_name: str) -> type | None:
     """Return the Python class of a pkg/msg/Type, or None if it is not installed."""
     package, kind, name = type_name.split('/')
     try:
@@ -60,7 +62,8 @@ def message_class(type_name):
         return None
 
 
-def subscription_qos(profiles, depth=DEPTH):
+def subscription_qos(profiles: list[QoSProfile], depth: int = DEPTH
+                     ) -> tuple[QoSProfile, bool]:
     """
     Return the QoS to subscribe with to publishers offering profiles, and whether it latches.
 
@@ -111,7 +114,7 @@ class BagRecording:
         self._catch_up = node.create_timer(CATCH_UP_PERIOD, self._follow_graph, clock=steady)
 
     @property
-    def topics(self):
+    def topics(self) -> list[str]:
         """Return the topics being recorded."""
         return sorted(self._recorded)
 
@@ -135,7 +138,9 @@ class BagRecording:
             if publishers:
                 self._record(topic, types, publishers)
 
-    def record_now(self, topic, type_name, qos, then=None, history=None, keep=None):
+    def record_now(self, topic: str, type_name: str, qos: QoSProfile,
+                   then: Callable | None = None, history: int | None = None,
+                   keep: Callable | None = None) -> None:
         """
         Record topic at once, as type_name with qos, before any publisher of it is known.
 
@@ -238,11 +243,11 @@ class BagRecording:
             kind, topic, write_with_send_time if self._send_times else write, qos, raw=True,
             event_callbacks=events)
 
-    def subscription(self, topic):
+    def subscription(self, topic: str) -> Subscription | None:
         """Return the subscription recording topic, or None while it is not recorded."""
         return self._recorded.get(topic)
 
-    def take_waiting(self, topic) -> int:
+    def take_waiting(self, topic: str) -> int:
         """
         Take now every message of topic that waits in its subscription; return how many.
 
@@ -264,7 +269,7 @@ class BagRecording:
         return taken
 
     @property
-    def failed(self):
+    def failed(self) -> bool:
         """Whether the disk stopped taking the bag, which then ended early."""
         return self.bag.failure is not None
 
@@ -281,7 +286,7 @@ class BagRecording:
         """Return how long finishing the bag may take now (for a Ctrl-C's ending)."""
         return 0.0 if self._closed else self.bag.finish_seconds()
 
-    def close(self):
+    def close(self) -> None:
         """Finish the bag, so that an interrupted recording is complete and indexed."""
         if self._closed:
             return

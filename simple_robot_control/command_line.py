@@ -3,6 +3,7 @@
 import argparse
 import os
 import sys
+from typing import NoReturn
 
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT
 
@@ -15,7 +16,7 @@ class OneLineParser(argparse.ArgumentParser):
     error; --help has the usage for whoever wants it.
     """
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         print(f'{self.prog}: error: {message} (see {self.prog} --help)', file=sys.stderr)
         sys.exit(EXIT_BAD_INPUT)
 

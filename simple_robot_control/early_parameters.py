@@ -64,7 +64,7 @@ class GivenParameters:
     values: dict = field(default_factory=dict)
     unsure: set = field(default_factory=set)
 
-    def add(self, name: str, value) -> None:
+    def add(self, name: str, value: object) -> None:
         self.values.setdefault(name, []).append(value)
 
 

@@ -3,6 +3,9 @@
 import time
 
 from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.publisher import Publisher
+from rclpy.topic_endpoint_info import TopicEndpointInfo
 
 # Participants on this host find each other within this much wall time. Measured here with
 # Fast DDS's default transports (shared memory and UDP): usually 0.05 to 0.2 s, but about one
@@ -22,14 +25,14 @@ POLL_PERIOD = 0.02
 UNNAMED = 'a node not yet named'
 
 
-def endpoint_node(info) -> str:
+def endpoint_node(info: TopicEndpointInfo) -> str:
     """Return the full name of an endpoint's node, or UNNAMED while discovery is under way."""
     if info.node_name == '_NODE_NAME_UNKNOWN_':
         return UNNAMED
     return f'{info.node_namespace.rstrip("/")}/{info.node_name}'
 
 
-def other_publishers(node, topic, own=1):
+def other_publishers(node: Node, topic: str, own: int = 1) -> list[str]:
     """
     Return the full names of the publishers on topic (resolved) besides node's own.
 
@@ -45,12 +48,12 @@ def other_publishers(node, topic, own=1):
     return names
 
 
-def type_name(message_type) -> str:
+def type_name(message_type: type) -> str:
     """Return a message class's ROS type name, such as geometry_msgs/msg/Twist."""
     return f'{message_type.__module__.split(".")[0]}/msg/{message_type.__name__}'
 
 
-def command_type_problem(node, publisher, parameter):
+def command_type_problem(node: Node, publisher: Publisher, parameter: str) -> str | None:
     """
     Say so when the topic's readers take another message type than the publisher sends.
 
@@ -71,7 +74,8 @@ def command_type_problem(node, publisher, parameter):
             f'both must use one type (the parameter {parameter})')
 
 
-def deliver_before_exit(node, publisher, alive_since, budget):
+def deliver_before_exit(node: Node, publisher: Publisher, alive_since: float,
+                        budget: float) -> None:
     """
     Wait, at most budget seconds of wall time, until every reader has every message.
 

@@ -14,12 +14,17 @@ an event thread that itself waits for the GIL (seen in the suite: a test process
 rcl_node_fini called from an import).
 """
 
+from collections.abc import Callable
 import functools
 import os
 import time
 import traceback
 
 from rclpy.node import Node
+from rclpy.qos import QoSProfile
+from rclpy.service import Service
+from rclpy.subscription import Subscription
+from rclpy.timer import Timer
 
 # An error repeated by the same callback is logged at most this often (wall seconds).
 REPEAT_AFTER = 5.0
@@ -41,7 +46,7 @@ class GuardedNode(Node):
         if '__init__' in cls.__dict__:
             cls.__init__ = _destroyed_if_it_raises(cls.__dict__['__init__'])
 
-    def guard(self, callback, what, failure=None):
+    def guard(self, callback: Callable, what: str, failure: Callable | None = None) -> Callable:
         """
         Return callback guarded: an exception is reported, and failure(*args) answered instead.
 
@@ -58,7 +63,7 @@ class GuardedNode(Node):
                 return None if failure is None else failure(*args)
         return guarded
 
-    def report_internal_error(self, what, error):
+    def report_internal_error(self, what: str, error: Exception) -> None:
         """Log one line about an exception nothing expected, at most every REPEAT_AFTER s."""
         now = time.monotonic()
         if now - self._reported_at.get(what, -REPEAT_AFTER) < REPEAT_AFTER:
@@ -73,17 +78,20 @@ class GuardedNode(Node):
         self.get_logger().error(f'internal error in {what}: {type(error).__name__}: {text}'
                                 f'{where}; the node carries on (please report this)')
 
-    def create_subscription(self, msg_type, topic, callback, qos_profile, **kwargs):
+    def create_subscription(self, msg_type: type, topic: str, callback: Callable,
+                            qos_profile: QoSProfile | int, **kwargs) -> Subscription:
         return super().create_subscription(
             msg_type, topic, self.guard(callback, f'the subscription to {topic}'), qos_profile,
             **kwargs)
 
-    def create_timer(self, timer_period_sec, callback, *args, **kwargs):
+    def create_timer(self, timer_period_sec: float, callback: Callable, *args,
+                     **kwargs) -> Timer:
         name = getattr(callback, '__qualname__', type(callback).__name__)
         return super().create_timer(timer_period_sec, self.guard(callback, f'the timer {name}'),
                                     *args, **kwargs)
 
-    def create_service(self, srv_type, srv_name, callback, *, failure=None, **kwargs):
+    def create_service(self, srv_type: type, srv_name: str, callback: Callable, *,
+                       failure: Callable | None = None, **kwargs) -> Service:
         """Create a service; failure(request, response) answers when callback raises."""
         return super().create_service(
             srv_type, srv_name, self.guard(callback, f'the service {srv_name}',

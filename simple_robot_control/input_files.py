@@ -63,7 +63,8 @@ _Reader.add_implicit_resolver('tag:yaml.org,2002:float', _FLOAT_WITHOUT_DOT,
                               list('-+0123456789'))
 
 
-def check_file(path, what, error_type, max_bytes):
+def check_file(path: str | os.PathLike, what: str, error_type: type[Exception],
+               max_bytes: int) -> None:
     """Raise error_type unless path is a regular file of at most max_bytes."""
     try:
         status = os.stat(path)
@@ -76,7 +77,7 @@ def check_file(path, what, error_type, max_bytes):
                          f'{max_bytes:,})')
 
 
-def is_regular_file(path) -> bool:
+def is_regular_file(path: str | os.PathLike) -> bool:
     """Whether path is a regular file (not a folder, FIFO or device), without opening it."""
     try:
         return stat.S_ISREG(os.stat(path).st_mode)
@@ -84,7 +85,8 @@ def is_regular_file(path) -> bool:
         return False
 
 
-def yaml_files(folder, suffixes=('.yaml', '.yml')) -> tuple[list, str]:
+def yaml_files(folder: str | os.PathLike, suffixes: tuple[str, ...] = ('.yaml', '.yml')
+               ) -> tuple[list, str]:
     """
     Return a folder's regular files named *.yaml (or suffixes), sorted, and what was left out.
 
@@ -107,7 +109,8 @@ def yaml_files(folder, suffixes=('.yaml', '.yml')) -> tuple[list, str]:
     return sorted(found), ''
 
 
-def read_text(path, what, error_type, max_bytes=MAX_TEXT_BYTES):
+def read_text(path: str | os.PathLike, what: str, error_type: type[Exception],
+              max_bytes: int = MAX_TEXT_BYTES) -> str:
     """Return the text of a UTF-8 file (a leading byte order mark is dropped)."""
     path = os.fspath(path)
     check_file(path, what, error_type, max_bytes)
@@ -120,7 +123,8 @@ def read_text(path, what, error_type, max_bytes=MAX_TEXT_BYTES):
         raise error_type(f'{path}: {what} is not a text file ({error.reason})') from None
 
 
-def read_yaml(path, what, error_type, max_bytes=MAX_DESCRIPTION_BYTES):
+def read_yaml(path: str | os.PathLike, what: str, error_type: type[Exception],
+              max_bytes: int = MAX_DESCRIPTION_BYTES) -> object:
     """
     Return the parsed contents of a YAML file of at most max_bytes.
 
@@ -132,7 +136,8 @@ def read_yaml(path, what, error_type, max_bytes=MAX_DESCRIPTION_BYTES):
                       max_bytes)
 
 
-def parse_yaml(text, source, what, error_type, max_chars=MAX_DESCRIPTION_BYTES):
+def parse_yaml(text: str, source: str, what: str, error_type: type[Exception],
+               max_chars: int = MAX_DESCRIPTION_BYTES) -> object:
     """
     Return the parsed YAML text; error_type names source and the line where it breaks.
 
@@ -182,7 +187,7 @@ def _shape_problem(root):
     return ''
 
 
-def output_problem(path, inputs=()) -> str | None:
+def output_problem(path: str | os.PathLike, inputs: tuple | list = ()) -> str | None:
     """
     Say why a file may not be written at path, or return None.
 

@@ -1,6 +1,7 @@
 """What every executable of this package shares: the command line, main(), and its ending."""
 
 import argparse
+from collections.abc import Callable, Sequence
 import os
 import re
 import select
@@ -19,6 +20,7 @@ from rclpy.task import Future
 from rclpy.utilities import get_default_context, remove_ros_args
 from simple_robot_control.command_line import OneLineParser
 from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_OK
+from simple_robot_control.parameter_specs import ParameterSpec
 from simple_robot_control.validation import ConfigError
 
 SIGNAL_CHECK_PERIOD = 0.1
@@ -39,7 +41,8 @@ ENDING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _SOURCE_LOCATION = re.compile(r'(?:, at [^,]*\.c:\d+)+')
 
 
-def build_parser(prog, description, specs):
+def build_parser(prog: str, description: str, specs: Sequence[ParameterSpec]
+                 ) -> argparse.ArgumentParser:
     """Build an argparse parser whose --help lists the node's ROS parameters."""
     epilog = '\n'.join(['ROS parameters (set with --ros-args -p name:=value; read-only unless '
                         'marked tunable, which `ros2 param set` may change while running):']
@@ -48,7 +51,8 @@ def build_parser(prog, description, specs):
                          formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
-def run(prog, parser, make_node, argv=None):
+def run(prog: str, parser: argparse.ArgumentParser, make_node: Callable,
+        argv: list[str] | None = None) -> int:
     """
     Parse the command line, run the node until it finishes, and return an exit code.
 
@@ -117,7 +121,7 @@ def run(prog, parser, make_node, argv=None):
     return code
 
 
-def rcl_problem(error) -> str:
+def rcl_problem(error: Exception) -> str:
     """Say in one line what rcl found wrong, without the places in its C sources."""
     text = ' '.join(_SOURCE_LOCATION.sub('', str(error)).split())
     return text.removeprefix('Failed to parse ROS arguments: ')

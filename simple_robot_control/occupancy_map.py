@@ -47,25 +47,25 @@ class OccupancyMap:
     source: str = ''
 
     @property
-    def occupied(self):
+    def occupied(self) -> np.ndarray:
         """Cells a robot may not touch."""
         return self.cells == OCCUPIED
 
     @property
-    def height(self):
+    def height(self) -> int:
         return self.cells.shape[0]
 
     @property
-    def width(self):
+    def width(self) -> int:
         return self.cells.shape[1]
 
     @property
-    def extent(self):
+    def extent(self) -> tuple[float, float]:
         """Return the map's (width, height) in metres."""
         return self.width * self.resolution, self.height * self.resolution
 
     @classmethod
-    def from_grid_message(cls, message, source='/map') -> 'OccupancyMap':
+    def from_grid_message(cls, message: object, source: str = '/map') -> 'OccupancyMap':
         """
         Read a nav_msgs/OccupancyGrid (duck-typed: no ROS import here).
 
@@ -92,7 +92,7 @@ class OccupancyMap:
         return cls(cells.reshape(height, width), float(info.resolution), corner, source)
 
 
-def load_map(yaml_path):
+def load_map(yaml_path: str | os.PathLike) -> OccupancyMap:
     """Load a map_server YAML file and its image as ROS 1 map_server does; MapError if not."""
     yaml_path = os.fspath(yaml_path)
     description = read_yaml(yaml_path, 'map file', MapError)

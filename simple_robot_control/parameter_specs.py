@@ -8,6 +8,7 @@ declares them (parameters.py), and whenever they are set while it runs.
 """
 
 import array
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 import difflib
 
@@ -59,7 +60,7 @@ class ParameterSpec:
             words.append(self.constraints)
         return '; '.join(words)
 
-    def problem(self, value) -> str | None:
+    def problem(self, value: object) -> str | None:
         """Return one line saying why value (of the right type) is not acceptable, or None."""
         if self.bounds is not None:
             return self.bounds.problem(self.name, value)
@@ -74,7 +75,7 @@ class ParameterSpec:
             return f'{self.name} must hold finite numbers, got {[compact(v) for v in value]}'
         return None
 
-    def as_declared_type(self, value):
+    def as_declared_type(self, value: object) -> object:
         """
         Return value as this parameter's type, or None when it is not of that type.
 
@@ -92,7 +93,7 @@ class ParameterSpec:
             return tuple(value) if all(type(item) is str for item in value) else None
         return value if type(value) is kind else None
 
-    def type_problem(self, value) -> str:
+    def type_problem(self, value: object) -> str:
         """Say in one line that value is not of this parameter's type."""
         return f'parameter {self.name}: expected {_KINDS[type(self.default)]}, got ' \
                f'{describe(value)}'
@@ -107,7 +108,8 @@ class ParameterSpec:
             f' ({extra})' if extra else '')
 
 
-def unknown_problem(node_name: str, given, specs) -> str | None:
+def unknown_problem(node_name: str, given: Iterable[str], specs: Sequence[ParameterSpec]
+                    ) -> str | None:
     """Return one line naming the first given parameter that node_name does not take, or None."""
     known = [spec.name for spec in specs]
     unknown = sorted(name for name in given if name not in known

@@ -7,8 +7,11 @@ number is taken for a double (users type `3`, `ros2 param set x 3` sends an INTE
 parameter the node does not know is refused with the name of the closest one it does.
 """
 
+from collections.abc import Callable, Sequence
+
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
 from rclpy.exceptions import ParameterException, ParameterUninitializedException
+from rclpy.node import Node
 from rclpy.parameter import Parameter
 from simple_robot_control.parameter_specs import ParameterSpec, unknown_problem
 from simple_robot_control.validation import compact, ConfigError
@@ -39,7 +42,7 @@ def as_declared_type(spec: ParameterSpec, parameter: Parameter) -> Parameter:
     return Parameter(parameter.name, widened, spec.as_declared_type(parameter.value))
 
 
-def declare_parameters(node, specs):
+def declare_parameters(node: Node, specs: Sequence[ParameterSpec]) -> dict:
     """
     Declare specs on node and return their checked values by name; problems are ConfigErrors.
 
@@ -83,7 +86,8 @@ def _declared(node, spec):
     return node.get_parameter(spec.name).value
 
 
-def accept_tuning(node, specs, apply):
+def accept_tuning(node: Node, specs: Sequence[ParameterSpec], apply: Callable[[dict], None]
+                  ) -> None:
     """
     Let `ros2 param set` change the tunable specs while node runs.
 

@@ -12,25 +12,25 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
-def yaw_from_quaternion(orientation) -> float:
+def yaw_from_quaternion(orientation: object) -> float:
     """Heading (rad) of a quaternion with x, y, z, w attributes, about the z axis."""
     return math.atan2(2.0 * (orientation.w * orientation.z + orientation.x * orientation.y),
                       1.0 - 2.0 * (orientation.y ** 2 + orientation.z ** 2))
 
 
-def set_yaw(orientation, yaw: float) -> None:
+def set_yaw(orientation: object, yaw: float) -> None:
     """Write a rotation of yaw radians about z into a quaternion message, in place."""
     orientation.x = orientation.y = 0.0
     orientation.z = math.sin(0.5 * yaw)
     orientation.w = math.cos(0.5 * yaw)
 
 
-def pose_from_message(pose) -> tuple:
+def pose_from_message(pose: object) -> tuple:
     """Return (x, y, theta) of a geometry_msgs Pose."""
     return pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation)
 
 
-def set_pose(pose, x: float, y: float, theta: float) -> None:
+def set_pose(pose: object, x: float, y: float, theta: float) -> None:
     """Write (x, y, theta) into a geometry_msgs Pose, in place (z stays as it is)."""
     pose.position.x, pose.position.y = x, y
     set_yaw(pose.orientation, theta)
@@ -75,7 +75,7 @@ def invert(transform: tuple) -> tuple:
     return (-cos_theta * x - sin_theta * y, sin_theta * x - cos_theta * y, -theta)
 
 
-def planar_pose(pose, tolerance: float = 1e-6) -> tuple:
+def planar_pose(pose: object, tolerance: float = 1e-6) -> tuple:
     """
     Return (x, y, yaw) of a geometry_msgs Pose; ValueError says why it is no planar pose.
 

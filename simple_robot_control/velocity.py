@@ -19,10 +19,10 @@ class VelocityPublisher:
         self.publisher = node.create_publisher(type(self._message), topic, 10)
 
     @property
-    def topic_name(self):
+    def topic_name(self) -> str:
         return self.publisher.topic_name
 
-    def publish(self, linear, angular):
+    def publish(self, linear: float, angular: float) -> None:
         self._twist.linear.x, self._twist.angular.z = float(linear), float(angular)
         if self._stamped:
             self._message.header.stamp = self._node.get_clock().now().to_msg()

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy.ndimage import distance_transform_edt
 from simple_robot_control.occupancy_map import OccupancyMap
-from waypoint_controller.planner import plan_poses
+from waypoint_controller.planner import Plan, plan_poses
 
 # Plans keep this much more than the robot's radius from walls: tracking is not exact.
 MARGIN = 0.01
@@ -46,7 +46,7 @@ class Clearance:
         upper = field[bottom + 1, left] * (1 - across) + field[bottom + 1, left + 1] * across
         return float(lower * (1 - up) + upper * up)
 
-    def is_free(self, plan) -> bool:
+    def is_free(self, plan: Plan) -> bool:
         """
         Whether the footprint stays off the walls all along plan.
 

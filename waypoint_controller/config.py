@@ -21,7 +21,7 @@ class ControllerConfig:
     distance_ki: float = 0.0
     distance_kd: float = 0.0
 
-    def validate(self):
+    def validate(self) -> None:
         """Raise ValueError naming the first field out of range."""
         for name in ('max_linear_speed', 'max_angular_speed', 'distance_tolerance',
                      'angle_tolerance', 'heading_kp', 'distance_kp'):

@@ -10,12 +10,14 @@ the error against the plan's reference pose. When the pose strays from the plan 
 drifting odometry, late commands) the law plans again from where the robot is.
 """
 
+from collections.abc import Callable
 import math
 
 from simple_robot_control.pose import wrap_angle as wrap
 from waypoint_controller.config import ControllerConfig
 from waypoint_controller.pid import lab_pids
-from waypoint_controller.planner import fastest_plan, Limits, plan_to_goal_set
+from waypoint_controller.planner import fastest_plan, Limits, Plan, plan_to_goal_set
+from waypoint_lab.waypoints import Waypoint
 
 # Straying from the reference pose by more than this much, or by more than STRAY_PERIODS of
 # one control period's motion, means planning again, to the same end pose: smaller errors are
@@ -80,7 +82,8 @@ class PoseController:
         self.plan = None
         self._blocked_at = None
 
-    def start(self, pose, waypoint, next_waypoint=None, target=None):
+    def start(self, pose: tuple, waypoint: Waypoint, next_waypoint: Waypoint | None = None,
+              target: tuple | None = None) -> None:
         """
         Aim at a new waypoint from pose; next_waypoint, if any, is counted in choosing how.
 
@@ -107,7 +110,7 @@ class PoseController:
         self.plan = plan
         self._blocked_at = None if plan is not None else pose
 
-    def command(self, pose, dt):
+    def command(self, pose: tuple, dt: float) -> tuple[float, float]:
         """Return (linear, angular) velocity for the next dt seconds."""
         self._replan_if_astray(pose, dt)
         if self.plan is None:
@@ -177,7 +180,7 @@ class PlannedLaw:
     def config(self) -> ControllerConfig:
         return self.controller.config
 
-    def avoid(self, is_free) -> None:
+    def avoid(self, is_free: Callable[[Plan], bool]) -> None:
         """Veto plans with is_free(plan) from now on (a new map): the next command re-plans."""
         self.controller.is_free = is_free
         self.controller.plan_again()
@@ -186,12 +189,12 @@ class PlannedLaw:
         """Use new limits, tolerances and gains from the next command on."""
         self.controller.reconfigure(config)
 
-    def aim(self, pose, index):
+    def aim(self, pose: tuple, index: int) -> None:
         """Plan from pose into waypoint index's goal set, counting the leg after it."""
         following = self.waypoints[index + 1] if index + 1 < len(self.waypoints) else None
         self.controller.start(pose, self.waypoints[index], following,
                               None if self.targets is None else self.targets[index])
 
-    def command(self, pose, dt):
+    def command(self, pose: tuple, dt: float) -> tuple[float, float]:
         """Return (linear, angular) velocity for the next dt seconds."""
         return self.controller.command(pose, dt)

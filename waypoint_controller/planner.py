@@ -9,6 +9,7 @@ angle_tolerance), so the planner tries end poses on and inside its edge and keep
 that is quickest to reach and to leave towards the next waypoint.
 """
 
+from collections.abc import Callable
 from dataclasses import dataclass
 import math
 
@@ -108,7 +109,12 @@ class TurnPlan:
                 self.start[2] + self._sign * self.limits.rate * time)
 
 
-def fastest_plan(start, target, limits: Limits, direction: int = 0, turn: int = 0):
+# What the planner gives: either kind answers duration and pose_at(time).
+Plan = ReedsSheppPlan | TurnPlan
+
+
+def fastest_plan(start: tuple, target: tuple, limits: Limits, direction: int = 0,
+                 turn: int = 0) -> Plan:
     """
     Return the quicker of the Reeds-Shepp path and the feasible full-rate turns to target.
 
@@ -138,7 +144,8 @@ def fastest_plan(start, target, limits: Limits, direction: int = 0, turn: int = 
     return best
 
 
-def goal_set_poses(waypoint, limits: Limits, directions: int = RING_DIRECTIONS):
+def goal_set_poses(waypoint: tuple, limits: Limits, directions: int = RING_DIRECTIONS
+                   ) -> list[tuple]:
     """
     Return end poses to try: a ring just inside the goal set's edge, and its centre.
 
@@ -155,7 +162,7 @@ def goal_set_poses(waypoint, limits: Limits, directions: int = RING_DIRECTIONS):
             + [(x, y, waypoint[2] + offset) for x, y in ring for offset in (-spread, spread)])
 
 
-def plan_poses(plan, spacing: float, horizon: float = math.inf):
+def plan_poses(plan: Plan, spacing: float, horizon: float = math.inf) -> list[tuple]:
     """
     Return poses along a plan, at most spacing metres apart at full speed, ends included.
 
@@ -189,7 +196,9 @@ def _candidate_plans(start, waypoint, limits, directions, is_free):
     return plans if is_free is None else [plan for plan in plans if is_free(plan)]
 
 
-def plan_to_goal_set(start, waypoint, limits: Limits, next_waypoint=None, is_free=None):
+def plan_to_goal_set(start: tuple, waypoint: tuple, limits: Limits,
+                     next_waypoint: tuple | None = None,
+                     is_free: Callable[[Plan], bool] | None = None) -> Plan | None:
     """
     Return the plan that reaches waypoint's goal set soonest, counting the next leg if given.
 

@@ -12,6 +12,7 @@ Pure Python on purpose: a pose query costs tens of microseconds and needs no com
 dependency, and rosdep has no key for OMPL's Python bindings.
 """
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 import math
 
@@ -194,12 +195,12 @@ def _first_turn(segments):
     return 0
 
 
-def path_length(segments) -> float:
+def path_length(segments: Sequence[Segment]) -> float:
     """Length of a path in the unit of its segments."""
     return sum(abs(segment.length) for segment in segments)
 
 
-def advance(pose, segment: Segment, distance: float, radius: float) -> tuple:
+def advance(pose: tuple, segment: Segment, distance: float, radius: float) -> tuple:
     """
     Pose after driving the first distance metres (unsigned) of segment from pose.
 
@@ -216,7 +217,7 @@ def advance(pose, segment: Segment, distance: float, radius: float) -> tuple:
     return x + chord * math.cos(middle), y + chord * math.sin(middle), theta + turn
 
 
-def relative_goal(start, goal, radius: float) -> tuple:
+def relative_goal(start: tuple, goal: tuple, radius: float) -> tuple:
     """Return goal in the start's frame, in radii: the argument of shortest_path."""
     dx, dy = goal[0] - start[0], goal[1] - start[1]
     cos_t, sin_t = math.cos(start[2]), math.sin(start[2])

@@ -3,10 +3,13 @@
 import dataclasses
 import math
 
+from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.parameters import accept_tuning
 from simple_robot_control.validation import ConfigError
+from waypoint_controller.config import ControllerConfig
 from waypoint_controller.control_law import PlannedLaw
 from waypoint_controller.parameters import DEFAULTS, PARAMETERS
+from waypoint_lab.lifecycle import ControlLaw, RunRules
 from waypoint_lab.runner import CourseRunner, run_controller, run_rules
 
 _CONFIG_FIELDS = ('max_linear_speed', 'max_angular_speed', 'distance_tolerance', 'heading_kp',
@@ -18,7 +21,7 @@ DESCRIPTION = ('waypoint_controller: drive the robot through the waypoints of WA
                'bad input.')
 
 
-def controller_config(values):
+def controller_config(values: dict) -> ControllerConfig:
     """Return the ControllerConfig that parameter values (by name) describe."""
     return dataclasses.replace(
         DEFAULTS, angle_tolerance=math.radians(values['angle_tolerance_deg']),
@@ -36,7 +39,7 @@ class WaypointController(CourseRunner):
         from waypoint_controller.clearance import Clearance
         self._clearance = Clearance
 
-    def build_law(self, params, waypoints):
+    def build_law(self, params: dict, waypoints: list) -> tuple[ControlLaw, RunRules]:
         self._tuned = {name: params[name] for name in _CONFIG_FIELDS + ('angle_tolerance_deg',)}
         try:
             self._law = PlannedLaw(waypoints, controller_config(self._tuned))
@@ -44,10 +47,10 @@ class WaypointController(CourseRunner):
             raise ConfigError(str(error)) from None
         return self._law, run_rules(params)
 
-    def plans_around_walls(self):
+    def plans_around_walls(self) -> bool:
         return True
 
-    def use_map(self, grid):
+    def use_map(self, grid: OccupancyMap) -> None:
         self._law.avoid(self._clearance(grid, self.params['robot_radius']).is_free)
 
     def _on_tuning(self, changes):
@@ -58,7 +61,7 @@ class WaypointController(CourseRunner):
                               lambda: self._law.reconfigure(config))
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     run_controller('waypoint_controller', DESCRIPTION, PARAMETERS, WaypointController, argv)
 
 

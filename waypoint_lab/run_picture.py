@@ -10,6 +10,7 @@ starts its runs without it.
 import math
 import os
 
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import EllipseCollection, LineCollection
 from matplotlib.figure import Figure
@@ -51,7 +52,7 @@ def render_run(run: Run, occupancy_map: OccupancyMap, robot_radius: float,
     figure.savefig(output_path, dpi=DPI, format='png')
 
 
-def draw_map(axes, occupancy_map: OccupancyMap) -> None:
+def draw_map(axes: Axes, occupancy_map: OccupancyMap) -> None:
     """
     Occupied cells black, free white, a mapper's likelihoods between, unknown grey.
 

@@ -320,7 +320,7 @@ class CourseRunner(GuardedNode):
         if not self.finished.done():
             self.finished.set_result(exit_code)
 
-    def shut_down(self):
+    def shut_down(self) -> None:
         """
         Stop the robot, then let every robot_status reader receive the whole run.
 
@@ -348,7 +348,7 @@ class FunctionController(CourseRunner):
         self._function = law
         super().__init__(node_name, RUNNER_PARAMETERS, waypoint_file, waypoints, **kwargs)
 
-    def build_law(self, params, waypoints):
+    def build_law(self, params: dict, waypoints: list) -> tuple[ControlLaw, RunRules]:
         return FunctionLaw(waypoints, self._function), run_rules(params)
 
 

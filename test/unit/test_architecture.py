@@ -230,3 +230,28 @@ def test_the_layout_page_names_every_module_and_no_other():
         assert tree <= named, f'doc/layout.md lacks {sorted(tree - named)} under {package}/'
         stray = {name for name in named - tree if not (REPOSITORY / name).is_file()}
         assert not stray, f'doc/layout.md names {sorted(stray)} under {package}/: not there'
+
+
+def unannotated(path):
+    """Yield the public functions of path whose parameters or return lack an annotation."""
+    def visit(node, private):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.ClassDef):
+                yield from visit(child, private or child.name.startswith('_'))
+            elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                if private or child.name.startswith('_'):
+                    continue
+                arguments = [argument for argument in child.args.args + child.args.kwonlyargs
+                             if argument.arg not in ('self', 'cls')]
+                if child.returns is None or any(argument.annotation is None
+                                                for argument in arguments):
+                    yield f'{child.name} (line {child.lineno})'
+    yield from visit(ast.parse(path.read_text()), False)
+
+
+@pytest.mark.parametrize('path', modules(*(f'{package}/**/*.py' for package in PACKAGES)),
+                         ids=str)
+def test_every_public_function_is_annotated(path):
+    """Its parameters and what it returns."""
+    missing = list(unannotated(path))
+    assert not missing, f'{path.relative_to(REPOSITORY)}: {missing}'
