@@ -14,7 +14,7 @@ from simple_robot_control.pose import wrap_angle as wrap
 from stdr_lite.core.kinematics import arc_step
 from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.setting_values import OdometryNoise
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 from waypoint_lab.lifecycle import RunLifecycle, RunRules
 from waypoint_lab.waypoints import Waypoint
 
@@ -97,7 +97,7 @@ def drive(law, waypoints, start, loop: Loop, config):
         config.max_angular_speed, stall_timeout=limit,
         control_period_ns=round(loop.dt * loop.control_every * 1e9)))
     pose, seen = start, start
-    odometry = (Odometry(WorldState.of_bodies([start]), loop.drift, seed=0)
+    odometry = (Odometry(StateTable.of_bodies([start]), loop.drift, seed=0)
                 if loop.drift.enabled else None)
     queue = deque([(0.0, 0.0)] * loop.late_by)
     command = (0.0, 0.0)

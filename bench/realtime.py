@@ -8,7 +8,7 @@ separate process. Each run is paired with a run of the rclpy ceiling for the sam
 lab tour's real-time factor is printed as a ratio of that ceiling: ratios, measured side by
 side, are what hold on a noisy machine. The real-time factor is simulated seconds per wall
 second from the first step to FINISHED; the control-step latency is the wall time from
-publishing odometry to receiving the cmd_vel that answers it. Before those, the bare World
+publishing odometry to receiving the cmd_vel that answers it. Before those, the bare Bodies
 steps N robots with wall and robot contact; after, the whole node steps 1000 lab robots with
 odometry at 10 Hz and a subscriber to every robot's odometry, timed by /clock against the wall
 clock; last the sensors of ten robots are read. Every figure is the median of --repeat runs.
@@ -39,15 +39,15 @@ from simple_robot_control.occupancy_map import load_map
 from simple_robot_control.share import (BUNDLED_MAP, BUNDLED_ROBOT, installed_executable,
                                         shared_file)
 from std_msgs.msg import String
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.robot_description import load_robot, RobotEntry
 from stdr_lite.core.simulation import Simulation, SimulationSettings
-from stdr_lite.core.world import PlacementError
 from stdr_lite.node.stdr_lite import StdrLite
 from waypoint_controller.waypoint_controller import WaypointController
 from waypoint_lab.rules import BUNDLED_COURSE
 
 RUN_TIMEOUT = 300.0
-# The bare World's target at 1000 robots (issue 41): times real time at 50 Hz.
+# The bare Bodies' target at 1000 robots (issue 41): times real time at 50 Hz.
 CROWD_TARGET = 20.0
 
 
@@ -339,10 +339,10 @@ def main(argv=None):
         ceiling_seconds = 0.5
         args.course = os.path.join(mkdtemp(), 'one_waypoint.txt')
         Path(args.course).write_text('2 2 0\n')
-    # The bare World first, in a process that has run nothing else yet: measured after the
+    # The bare Bodies first, in a process that has run nothing else yet: measured after the
     # lockstep runs, it came out a third slower.
-    print(f'the bare World, walls and robot contact included, in CPU time; median of '
-          f'{args.repeat} runs')
+    print('the bare Bodies (the step of the core without sensors or ROS), walls and robot contact '
+          f'included, in CPU time; median of {args.repeat} runs')
     print(f'{"robots":>7} {"robot-steps/s":>14} {"steps/s":>9} {"real time at 50 Hz":>19}')
     for count in args.robots:
         rate = float(np.median([robot_steps_per_second(count, steps=max(200, 20000 // count))

@@ -213,10 +213,9 @@ class _Run:
         raise GradingError(f'no empty ROS domain: {DOMAIN_TRIES} tried, each in use by another '
                            'program')
 
-    def go(self, settings):
+    def go(self, settings: RunSettings) -> RunEvidence:
+        """Run the course: its domain, the simulator, the submission, the run to its end."""
         self.course_robot = settings.robot_name
-        waypoints = f'{self.home}/waypoints.txt'
-        command = [part.replace(PLACEHOLDER, waypoints) for part in settings.command]
         try:
             if self.sandbox.mode == NAMESPACES:
                 self._open_domain(SEALED_DOMAIN)
@@ -226,30 +225,8 @@ class _Run:
                 domain_id = self.claim.domain_id
             environment = course_environment(domain_id, self.sandbox.sealed)
             marker = uuid.uuid4().hex
-            self.link = SimulatorLink(settings.robot_name)
-            self.simulator = Supervised(
-                simulator_command(self.course, settings, self.link.descriptor, self.private),
-                f'{marker}:simulator', self.folder / 'simulator.log', env=environment,
-                pass_fds=(self.link.descriptor,))
-            self.link.handed_over()
-            if not self.spin(lambda: self.link.limits is not None
-                             and self.recorder.simulator_matched, SIMULATOR_START):
-                raise GradingError("the simulator's ground truth and stall topics did not "
-                                   f'show within {SIMULATOR_START:g} s')
-            # Read by now: the file names the course's world, so it goes before the submission.
-            shutil.rmtree(self.private, ignore_errors=True)
-            # The domain held the simulator and the grader alone: these endpoints are its.
-            self.simulator_gids = {publisher.gid for publisher
-                                   in self.recorder.publishers(self.recorder.watched)}
-            jail = None if self.uid is None else self.sandbox.jail(
-                self.uid, settings.cwd, {'waypoints.txt': str(self.working / 'waypoints.txt')})
-            self.submission = Submission(
-                command, f'{marker}:submission', self.folder / 'output.txt', cwd=settings.cwd,
-                env=submission_environment(environment, self.home, settings.hidden),
-                memory_mb=settings.memory_mb, jail=jail)
-            if self.spin(lambda: self.recorder.status_publishers or not self.submission.running,
-                         STATUS_PUBLISHER_WAIT):
-                self.spin(lambda: False, MATCH_SETTLE)
+            self._start_simulator(settings, environment, marker)
+            self._start_submission(settings, environment, marker)
             if not self.link.play():
                 raise GradingError('the simulator did not start playing')
             timed_out = self._until_over()
@@ -267,6 +244,38 @@ class _Run:
         if self.recorder_failure:
             return self._result(outcome, f'the run could not be recorded: {self.recorder_failure}')
         return self._result(outcome)
+
+    def _start_simulator(self, settings, environment, marker):
+        """Start the simulator, supervised, and wait until its truth and topics show."""
+        self.link = SimulatorLink(settings.robot_name)
+        self.simulator = Supervised(
+            simulator_command(self.course, settings, self.link.descriptor, self.private),
+            f'{marker}:simulator', self.folder / 'simulator.log', env=environment,
+            pass_fds=(self.link.descriptor,))
+        self.link.handed_over()
+        if not self.spin(lambda: self.link.limits is not None
+                         and self.recorder.simulator_matched, SIMULATOR_START):
+            raise GradingError("the simulator's ground truth and stall topics did not "
+                               f'show within {SIMULATOR_START:g} s')
+        # Read by now: the file names the course's world, so it goes before the submission.
+        shutil.rmtree(self.private, ignore_errors=True)
+        # The domain held the simulator and the grader alone: these endpoints are its.
+        self.simulator_gids = {publisher.gid for publisher
+                               in self.recorder.publishers(self.recorder.watched)}
+
+    def _start_submission(self, settings, environment, marker):
+        """Start the submission (jailed where it has a uid) and give it time to publish."""
+        waypoints = f'{self.home}/waypoints.txt'
+        command = [part.replace(PLACEHOLDER, waypoints) for part in settings.command]
+        jail = None if self.uid is None else self.sandbox.jail(
+            self.uid, settings.cwd, {'waypoints.txt': str(self.working / 'waypoints.txt')})
+        self.submission = Submission(
+            command, f'{marker}:submission', self.folder / 'output.txt', cwd=settings.cwd,
+            env=submission_environment(environment, self.home, settings.hidden),
+            memory_mb=settings.memory_mb, jail=jail)
+        if self.spin(lambda: self.recorder.status_publishers or not self.submission.running,
+                     STATUS_PUBLISHER_WAIT):
+            self.spin(lambda: False, MATCH_SETTLE)
 
     def _result(self, outcome, error=''):
         """Return the run's evidence: the truth the simulator sent up to now, the statuses."""

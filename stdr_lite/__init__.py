@@ -19,7 +19,7 @@ import importlib
 # node (stdr_ctl, move_robot, grade_lab) then start without the simulation's numba and scipy,
 # 0.6 s of every start.
 _HOMES = {'load_world': 'stdr_lite.core.loading', 'OdometryNoise': 'stdr_lite.core.setting_values',
-          'PlacementError': 'stdr_lite.core.world', 'RequestError': 'stdr_lite.core.entities',
+          'PlacementError': 'stdr_lite.core.bodies', 'RequestError': 'stdr_lite.core.entities',
           'RobotEntry': 'stdr_lite.core.robot_description',
           'Simulation': 'stdr_lite.core.simulation',
           'SimulationSettings': 'stdr_lite.core.entities'}

@@ -9,7 +9,7 @@ an occupied square, so a robot in open space (or a step whose whole path stays i
 costs one lookup, and only robots near a wall pay for the exact check against the cells around
 them: for a polygon, those within its circumradius, whatever its heading. Everything outside
 the map counts as occupied. A circle's checks are compiled (numba), one circle at a time, so
-the World's compiled step calls them too; a polygon's, rarer, are numpy's.
+the Bodies' compiled step calls them too; a polygon's, rarer, are numpy's.
 """
 
 import math

@@ -6,7 +6,7 @@ import math
 from numba import njit
 import numpy as np
 from stdr_lite.core.setting_values import SAFETY_ANGULAR_SPEED, SAFETY_LINEAR_SPEED
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 
 class CommandOutcome(enum.Enum):
@@ -40,7 +40,7 @@ class HeldCommands:
     the timeout (in simulated seconds) is stopped.
     """
 
-    def __init__(self, state: WorldState, max_linear_speed: float, max_angular_speed: float,
+    def __init__(self, state: StateTable, max_linear_speed: float, max_angular_speed: float,
                  timeout: float = 0.0,
                  safety: tuple[float, float] = (SAFETY_LINEAR_SPEED, SAFETY_ANGULAR_SPEED)):
         self.state = state

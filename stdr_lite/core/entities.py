@@ -1,4 +1,4 @@
-"""What the simulation holds besides the World's arrays: its entities and their schedules."""
+"""What the simulation holds besides the Bodies' arrays: its entities and their schedules."""
 
 from dataclasses import dataclass, field, replace
 import enum
@@ -109,7 +109,7 @@ class ScheduledSensor:
 @dataclass
 class SimulatedEntity:
     """
-    A robot or an obstacle, besides its state in the World's arrays.
+    A robot or an obstacle, besides its state in the Bodies' arrays.
 
     start_pose is where a reset puts it back; spawned marks entities added while running,
     which a reset of spawned entities removes. A robot's topics sit under its namespace;

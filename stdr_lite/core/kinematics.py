@@ -1,7 +1,7 @@
 """
 Unicycle kinematics: each integrator written once, compiled (numba), for one body or many.
 
-euler_pose and arc_pose advance one body and are what the World's compiled step calls;
+euler_pose and arc_pose advance one body and are what the Bodies' compiled step calls;
 euler_step and arc_step are the same functions over arrays, which broadcast: scalars for one
 robot, arrays for many, or an extra trailing axis of durations to sample a step at several
 instants (a polygon's path near a wall). Headings are wrapped by the one rule of

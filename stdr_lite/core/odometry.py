@@ -21,7 +21,7 @@ from numba import njit
 import numpy as np
 from stdr_lite.core.kinematics import wrap
 from stdr_lite.core.setting_values import OdometryNoise
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class Odometry:
     state's odometry columns (state.py).
     """
 
-    def __init__(self, state: WorldState, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
+    def __init__(self, state: StateTable, noise: OdometryNoise = OdometryNoise(), seed: int = 0):
         self.state = state
         self.noise = noise
         self.reseed(seed)

@@ -22,13 +22,14 @@ class SimulationReadings:
     The reading half of Simulation, over the parts it keeps (each set by simulation.py).
 
     state (every entity's row: pose, footprint, what the last step did, odometry; state.py),
-    world (the map), odometer with odometry_schedule (odometry.py), sensing (the sensors'
-    schedules, noise and plans: sensing.py), step_count, dt_ns and settings.
+    bodies (the bodies moving in the map: bodies.py), odometer with odometry_schedule
+    (odometry.py), sensing (the sensors' schedules, noise and plans: sensing.py), step_count,
+    dt_ns and settings.
     """
 
     @property
     def occupancy_map(self) -> OccupancyMap:
-        return self.world.map
+        return self.bodies.map
 
     @property
     def dt(self) -> float:

@@ -13,7 +13,7 @@ import numpy as np
 from stdr_lite.core.entities import sensor_groups
 from stdr_lite.core.robot_description import LaserSpec
 from stdr_lite.core.sensors import RangeFinder, read_sensors, ReadingPlan
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 
 class Sensing:
@@ -22,10 +22,10 @@ class Sensing:
     def __init__(self, bodies_meet: bool, seed: int):
         self.bodies_meet = bodies_meet
         self.noise = np.random.default_rng(seed)
-        self.state, self.finder = WorldState(), None
+        self.state, self.finder = StateTable(), None
         self._forget()
 
-    def attach(self, state: WorldState, finder: RangeFinder) -> None:
+    def attach(self, state: StateTable, finder: RangeFinder) -> None:
         """Read the entities of state from now on, in the map of finder."""
         self.state, self.finder = state, finder
         self._forget()

@@ -17,6 +17,7 @@ import zlib
 import numpy as np
 from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
+from stdr_lite.core.bodies import Bodies, PlacementError
 from stdr_lite.core.commands import CommandOutcome, HeldCommands
 from stdr_lite.core.entities import (AwaitedCommands, Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
@@ -26,9 +27,8 @@ from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.readings import SimulationReadings
 from stdr_lite.core.robot_description import RobotEntry
 from stdr_lite.core.sensing import Sensing
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 from stdr_lite.core.terrain import survey, Terrain
-from stdr_lite.core.world import PlacementError, World
 
 # Footprints up to this radius can be added while running, besides those in the start list.
 LARGEST_ADDED_RADIUS = 0.5
@@ -78,9 +78,9 @@ class Simulation(SimulationReadings):
         """
         return survey(occupancy_map, self._largest)
 
-    def _use(self, world):
-        """Run on world (its terrain's, its state's entities): commands and odometry anew."""
-        self.world, self.state = world, world.state
+    def _use(self, bodies):
+        """Run on bodies (its terrain's, its state's entities): commands and odometry anew."""
+        self.bodies, self.state = bodies, bodies.state
         self.commands = HeldCommands(self.state, self.settings.max_linear_speed,
                                      self.settings.max_angular_speed,
                                      self.settings.cmd_vel_timeout, self.settings.safety)
@@ -153,11 +153,11 @@ class Simulation(SimulationReadings):
             raise RequestError(f'an entity named {shorten(name)} exists already')
 
     def _append(self, entity):
-        self.world.add_body(entity.start_pose, entity.radius, entity.shape, entity)
+        self.bodies.add_body(entity.start_pose, entity.radius, entity.shape, entity)
 
     def remove(self, name: str) -> None:
         """Take an entity out; the entities after it move down one row."""
-        self.world.remove_body(self.state.index(name))
+        self.bodies.remove_body(self.state.index(name))
         self.awaited_commands.answer(name)
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
@@ -166,7 +166,7 @@ class Simulation(SimulationReadings):
 
         Drifting odometry does not notice (the robot was carried): map -> odom takes the jump.
         """
-        self.world.move_body(self.state.index(name), pose)
+        self.bodies.move_body(self.state.index(name), pose)
 
     def command(self, name: str, linear: float, angular: float,
                 lateral: float = 0.0) -> CommandOutcome:
@@ -258,8 +258,8 @@ class Simulation(SimulationReadings):
                 velocities[sliding, 0] = motion[sliding, 0]
                 velocities[sliding, 2] = motion[sliding, 1]
                 headings = motion[:, 2]
-        moved = self.world.step(velocities[:, 0], velocities[:, 2], self.dt, headings,
-                                velocities[:, 1])
+        moved = self.bodies.step(velocities[:, 0], velocities[:, 2], self.dt, headings,
+                                 velocities[:, 1])
         self.state.stepped(moved, velocities)
         if self.odometer.noise.enabled:
             self.odometer.advance(self.dt)
@@ -302,17 +302,17 @@ class Simulation(SimulationReadings):
         self._restart_time()
 
     def _rebuild(self, terrain, entities):
-        """Put entities at their start poses in a world of this terrain, all or none of them."""
-        world = World(terrain.occupancy_map, self._largest, self.settings.integrator,
-                      terrain.checker, self.settings.bodies_meet, WorldState())
+        """Put entities at their start poses on this terrain, all or none of them."""
+        bodies = Bodies(terrain.occupancy_map, self._largest, self.settings.integrator,
+                        terrain.checker, self.settings.bodies_meet, StateTable())
         for entity in entities:
             try:
-                world.add_body(entity.start_pose, entity.radius, entity.shape, entity)
+                bodies.add_body(entity.start_pose, entity.radius, entity.shape, entity)
             except PlacementError as error:
                 raise PlacementError(f'{entity.name} cannot stand at its start pose: '
                                      f'{error}') from None
         self.terrain = terrain
-        self._use(world)
+        self._use(bodies)
 
     def await_commands(self) -> None:
         """Lockstep: from now on, wait for a command from every robot before stepping."""

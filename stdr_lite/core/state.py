@@ -2,7 +2,7 @@
 Every entity of a simulation in one store: a row each, a column per quantity. No ROS here.
 
 The columns are numpy arrays, structure-of-arrays, so a step works on all entities at once:
-the World moves the poses (world.py), the held commands drive the robots (commands.py), the
+the Bodies move the poses (bodies.py), the held commands drive the robots (commands.py), the
 odometry measures what they did (odometry.py), the sensors read the poses (sensing.py); each
 reads and writes its columns here and keeps no rows of its own. Adding or removing an entity is
 one call (append, remove) that changes every column and the roster of names at once, and moves
@@ -34,11 +34,11 @@ COLUMNS = {
 }
 
 
-class WorldState:
+class StateTable:
     """
     The entities' state, a row per entity in the order they were added.
 
-    entities holds each row's SimulatedEntity (None for a bare body, as the World's tests
+    entities holds each row's SimulatedEntity (None for a bare body, as the Bodies' tests
     place), shapes each polygon's corners (None for a circle); the other columns are arrays
     named in COLUMNS. A removal moves the rows after it down one.
     """
@@ -53,7 +53,7 @@ class WorldState:
         self._robot_rows = np.zeros(0, dtype=np.int64)
 
     @classmethod
-    def of_bodies(cls, poses: Iterable[tuple], radius: float = 0.0) -> 'WorldState':
+    def of_bodies(cls, poses: Iterable[tuple], radius: float = 0.0) -> 'StateTable':
         """Return a state of bare circular bodies at poses: for a part of the core used alone."""
         state = cls()
         for pose in poses:

@@ -23,8 +23,8 @@ from simulation_interfaces.msg import (Resource, Result, SimulationState, Simula
 from simulation_interfaces.srv import (GetAvailableWorlds, GetCurrentWorld, GetSimulationState,
                                        GetSimulatorFeatures, LoadWorld, ResetSimulation,
                                        SetSimulationState, StepSimulation, UnloadWorld)
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.spawnables import path_of, SPAWN_FORMATS, SpawnResourceError
-from stdr_lite.core.world import PlacementError
 from stdr_lite.node.messages import map_message
 from stdr_lite.node.requests import in_thread, WAIT
 from stdr_lite.node.results import MAX_ACTION_STEPS, MAX_SERVICE_STEPS, Refusal, result

@@ -22,12 +22,12 @@ from simulation_interfaces.msg import (Bounds, EntityCategory, EntityInfo, Entit
 from simulation_interfaces.srv import (DeleteEntity, GetEntities, GetEntitiesStates,
                                        GetEntityBounds, GetEntityInfo, GetEntityState,
                                        GetSpawnables, SetEntityState, SpawnEntities, SpawnEntity)
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.entities import Category, NamespaceError, RequestError
 from stdr_lite.core.footprints import convex_hull
 from stdr_lite.core.regions import count_problem, region_test
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.spawnables import load_resource, SpawnResourceError
-from stdr_lite.core.world import PlacementError
 from stdr_lite.node.messages import set_stamp
 from stdr_lite.node.naming import check_robot_names, NamingProblem
 from stdr_lite.node.results import Refusal, result

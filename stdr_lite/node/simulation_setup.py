@@ -5,13 +5,13 @@ from dataclasses import replace
 from simple_robot_control.occupancy_map import MapError
 from simple_robot_control.share import BUNDLED_ROBOT, shared_file
 from simple_robot_control.validation import ConfigError, require
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.loading import load_world
 from stdr_lite.core.robot_description import (load_robot, RobotDescription, RobotEntry,
                                               RobotFileError)
 from stdr_lite.core.robot_list import load_robot_list
 from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.simulation import RequestError, Simulation, SimulationSettings
-from stdr_lite.core.world import PlacementError
 from stdr_lite.node.parameters import PARAMETERS
 
 

@@ -19,10 +19,10 @@ from simple_robot_control.parameters import declare_parameters
 from simple_robot_control.pose import compose, planar_pose
 from simple_robot_control.validation import ConfigError, describe, shorten
 from simulation_interfaces.msg import SimulationState
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.commands import CommandOutcome
 from stdr_lite.core.entities import RequestError
 from stdr_lite.core.robot_description import RobotDescription
-from stdr_lite.core.world import PlacementError
 from stdr_lite.node.control_services import SimulationControl
 from stdr_lite.node.entity_services import EntityServices
 from stdr_lite.node.frames import FramePublisher

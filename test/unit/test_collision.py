@@ -6,8 +6,8 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map, OccupancyMap
+from stdr_lite.core.bodies import Bodies, PlacementError
 from stdr_lite.core.collision import FootprintChecker
-from stdr_lite.core.world import PlacementError, World
 
 RESOLUTION = 0.05
 
@@ -81,7 +81,7 @@ def test_circle_exactly_clear_of_a_wall_does_not_touch_it():
 def one_cell_wall_world(integrator, wall_col=100):
     occupied = np.zeros((60, 200), dtype=bool)
     occupied[:, wall_col] = True
-    return World(grid_map(occupied), max_radius=0.2, integrator=integrator)
+    return Bodies(grid_map(occupied), max_radius=0.2, integrator=integrator)
 
 
 @pytest.mark.parametrize('integrator', ['euler', 'arc'])
@@ -126,7 +126,7 @@ def test_each_robot_is_judged_on_its_own_step():
 
 def test_the_map_edge_is_a_wall(tmp_path):
     open_field = np.full((40, 40), 255)
-    world = World(load_map(write_map(tmp_path, open_field)), max_radius=0.2)
+    world = Bodies(load_map(write_map(tmp_path, open_field)), max_radius=0.2)
     world.add_body((1.0, 1.0, math.pi), 0.2)
     for _ in range(100):
         world.step([1.0], [0.0], 0.05)
@@ -138,7 +138,7 @@ def test_the_map_edge_is_a_wall(tmp_path):
                                            ((5.0, 1.0, 0.0), 'off the map'),
                                            ((1.0, math.nan, 0.0), 'not finite')])
 def test_impossible_placements_are_refused(pose, problem):
-    world = World(grid_map(walled_room(40, 40) == 0), max_radius=0.2)
+    world = Bodies(grid_map(walled_room(40, 40) == 0), max_radius=0.2)
     with pytest.raises(PlacementError, match=problem):
         world.add_body(pose, 0.2)
     assert world.body_count == 0
@@ -155,7 +155,7 @@ def test_no_step_ends_in_a_wall_or_another_body(integrator):
     rng = np.random.default_rng(5)
     occupied = walled_room(60, 50) == 0
     occupied[20:30, 25:28] = True
-    world = World(grid_map(occupied), max_radius=0.3, integrator=integrator)
+    world = Bodies(grid_map(occupied), max_radius=0.3, integrator=integrator)
     for pose in [(0.5, 0.5, 0.0), (0.9, 0.5, 3.0), (2.4, 1.2, 1.0), (1.0, 2.0, -1.0)]:
         world.add_body(pose, 0.2)
     square = ((-0.15, -0.15), (0.15, -0.15), (0.15, 0.15), (-0.15, 0.15))
@@ -179,7 +179,7 @@ def test_no_step_ends_in_a_wall_or_another_body(integrator):
 
 
 def test_a_step_of_no_finite_length_is_refused_at_once():
-    world = World(grid_map(walled_room(40, 40) == 0), max_radius=0.3)
+    world = Bodies(grid_map(walled_room(40, 40) == 0), max_radius=0.3)
     world.add_body((0.5, 0.5, 0.0), 0.2)
     world.add_body((1.5, 1.5, 0.0), 0.2, ((-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)))
     moved = world.step([math.inf, 0.0], [0.0, math.nan], 0.05)

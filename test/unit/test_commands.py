@@ -3,11 +3,11 @@
 import pytest
 from stdr_lite.core.commands import (CommandOutcome, HeldCommands, SAFETY_ANGULAR_SPEED,
                                      SAFETY_LINEAR_SPEED, speed_limits)
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 
 def held(robots, *limits, **options):
-    return HeldCommands(WorldState.of_bodies([(0.0, 0.0, 0.0)] * robots), *limits, **options)
+    return HeldCommands(StateTable.of_bodies([(0.0, 0.0, 0.0)] * robots), *limits, **options)
 
 
 def test_commands_are_held_until_replaced():

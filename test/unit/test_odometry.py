@@ -12,7 +12,7 @@ from stdr_lite.core.odometry import Odometry
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
 from stdr_lite.core.setting_values import OdometryNoise
 from stdr_lite.core.simulation import Simulation, SimulationSettings
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 NOISE = OdometryNoise(distance=0.05, turn=0.05, heading_per_distance=0.02)
 
@@ -84,7 +84,7 @@ def test_covariance_grows_while_driving_and_holds_while_standing(room):
 def test_the_spread_is_what_the_covariance_says_at_any_step_rate(dt, lateral):
     """Two thousand robots drive 2 m along a gentle curve; compare their scatter with P."""
     robots = 2000
-    state = WorldState.of_bodies([(0.0, 0.0, 0.0)] * robots)
+    state = StateTable.of_bodies([(0.0, 0.0, 0.0)] * robots)
     odometry = Odometry(state, NOISE, seed=7)
     state.applied[:] = (0.5, lateral, 0.2)
     steps = round(4.0 / dt)

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import shapely
 from simple_robot_control.occupancy_map import OccupancyMap
+from stdr_lite.core.bodies import Bodies, PlacementError
 from stdr_lite.core.collision import FootprintChecker
 from stdr_lite.core.footprints import placed
 from stdr_lite.core.robot_description import LaserSpec, Noise
 from stdr_lite.core.sensors import RangeFinder, read_sensors
-from stdr_lite.core.world import PlacementError, World
 
 RESOLUTION = 0.05
 SQUARE = ((-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2))
@@ -37,7 +37,7 @@ def room_with_a_gap():
 
 def drive_through(radius, shape, heading):
     """Drive a body from x 2 m towards +x for 3 s at 1 m/s; return where it ends."""
-    world = World(room_with_a_gap(), max_radius=0.3)
+    world = Bodies(room_with_a_gap(), max_radius=0.3)
     world.add_body((2.0, GAP_MIDDLE, heading), radius, shape)
     for _ in range(60):
         world.step([1.0], [0.0], 0.05, travel_headings=[0.0])
@@ -59,7 +59,7 @@ def test_a_square_turned_across_a_gap_narrower_than_it_stops_where_its_inner_dis
 def test_a_square_against_a_wall_cannot_turn_into_it_but_a_disc_can():
     occupied = np.zeros((60, 120), dtype=bool)
     occupied[:, 60] = True
-    world = World(grid_map(occupied), max_radius=0.3)
+    world = Bodies(grid_map(occupied), max_radius=0.3)
     world.add_body((2.75, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
     world.add_body((2.75, 0.5, 0.0), 0.2)
     moved = world.step([0.0, 0.0], [1.0, 1.0], 0.5)
@@ -74,7 +74,7 @@ def test_a_square_against_a_wall_cannot_turn_into_it_but_a_disc_can():
 def test_no_polygon_tunnels_through_a_one_cell_wall(integrator, heading):
     occupied = np.zeros((60, 200), dtype=bool)
     occupied[:, 100] = True
-    world = World(grid_map(occupied), max_radius=0.3, integrator=integrator)
+    world = Bodies(grid_map(occupied), max_radius=0.3, integrator=integrator)
     world.add_body((3.0, 1.5, heading), CIRCUMRADIUS, SQUARE)
     for _ in range(40):
         world.step([5.0], [0.0], 0.1, travel_headings=[0.0])
@@ -104,7 +104,7 @@ def test_the_polygon_check_agrees_with_shapely_on_random_poses():
 def test_bodies_never_overlap_a_polygon():
     occupied = np.zeros((80, 200), dtype=bool)
     occupied[[0, -1], :] = occupied[:, [0, -1]] = True
-    world = World(grid_map(occupied), max_radius=0.3)
+    world = Bodies(grid_map(occupied), max_radius=0.3)
     world.add_body((3.0, 2.0, 0.4), CIRCUMRADIUS, SQUARE)
     world.add_body((6.0, 2.0, math.pi), 0.2)
     world.add_body((4.5, 3.2, -math.pi / 2), CIRCUMRADIUS, SQUARE)
@@ -120,7 +120,7 @@ def test_bodies_never_overlap_a_polygon():
 
 
 def test_a_polygon_cannot_be_placed_on_another_body():
-    world = World(grid_map(np.zeros((60, 120), dtype=bool)), max_radius=0.3)
+    world = Bodies(grid_map(np.zeros((60, 120), dtype=bool)), max_radius=0.3)
     world.add_body((2.0, 1.5, 0.0), CIRCUMRADIUS, SQUARE)
     with pytest.raises(PlacementError, match='overlaps body 0'):
         world.add_body((2.35, 1.5, 0.0), 0.2)

@@ -6,13 +6,13 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map
-from stdr_lite.core.world import PlacementError, World
+from stdr_lite.core.bodies import Bodies, PlacementError
 
 
 @pytest.fixture
 def world(tmp_path):
     """Give an empty 10 m x 4 m room."""
-    return World(load_map(write_map(tmp_path, walled_room(200, 80))), max_radius=0.3)
+    return Bodies(load_map(write_map(tmp_path, walled_room(200, 80))), max_radius=0.3)
 
 
 def gap(world, first=0, second=1):

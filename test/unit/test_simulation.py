@@ -7,10 +7,10 @@ from map_fixtures import walled_room, write_map
 import numpy as np
 import pytest
 from simple_robot_control.occupancy_map import load_map
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.robot_description import (LaserSpec, Noise, parse_robot_text,
                                               RobotDescription, RobotEntry, SonarSpec)
 from stdr_lite.core.simulation import CommandOutcome, RequestError, Simulation, SimulationSettings
-from stdr_lite.core.world import PlacementError
 
 PLAIN = RobotDescription(0.2, (0.0, 0.0, 0.0))
 LASER = LaserSpec('laser_0', (0.1, 0.0, 0.0), -1.0, 1.0, 0.05, 4.0, 5, 10.0, Noise())

@@ -13,10 +13,10 @@ from dataclasses import replace
 import math
 
 import numpy as np
+from stdr_lite.core.bodies import PlacementError
 from stdr_lite.core.entities import SimulationSettings
 from stdr_lite.core.loading import load_world, robot_entries, robot_file
 from stdr_lite.core.robot_description import RobotDescription, RobotEntry
-from stdr_lite.core.world import PlacementError
 from waypoint_lab.learning import checks
 from waypoint_lab.learning.course_distribution import sample_course, sample_position
 from waypoint_lab.learning.task import Courses, GOAL_FEATURES, observe, TaskSettings
@@ -87,9 +87,9 @@ class Arena:
         """Whether a waypoint (or a start) at (x, y) keeps clearance (the task's) from walls."""
         clearance = self._clearance if clearance is None else clearance
         extent_x, extent_y = self.simulation.occupancy_map.extent
-        map_x, map_y = self.simulation.world.checker.to_map_frame(x, y)
+        map_x, map_y = self.simulation.bodies.checker.to_map_frame(x, y)
         return (0.0 <= map_x < extent_x and 0.0 <= map_y < extent_y
-                and not self.simulation.world.checker.touches(x, y, clearance))
+                and not self.simulation.bodies.checker.touches(x, y, clearance))
 
     def _clear_of_others(self, robot: int):
         """Return is_free for robot's start: clear of walls and, if bodies meet, other robots."""

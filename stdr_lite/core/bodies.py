@@ -11,7 +11,7 @@ from stdr_lite.core.contacts import moving_into_others, overlapped
 from stdr_lite.core.entities import SimulatedEntity
 from stdr_lite.core.kinematics import integrate, INTEGRATORS, wrap
 from stdr_lite.core.setting_values import ARC
-from stdr_lite.core.state import WorldState
+from stdr_lite.core.state import StateTable
 
 # Sampling the path so that no point of a footprint moves more than a quarter cell between
 # samples bounds the depth by which it could clip a corner between two samples to
@@ -23,9 +23,9 @@ class PlacementError(ValueError):
     """A pose where a body cannot stand: off the map, touching a wall or another body."""
 
 
-class World:
+class Bodies:
     """
-    Bodies of a WorldState moved in a map: placed, teleported, stepped all at once.
+    Bodies of a StateTable moved in a map: placed, teleported, stepped all at once.
 
     A footprint is a circle of its radius, or a polygon (shape: its corners in the body's
     frame, radius then its farthest corner's distance). A step whose footprint would touch an
@@ -36,7 +36,7 @@ class World:
 
     def __init__(self, occupancy_map: OccupancyMap, max_radius: float, integrator: str = 'euler',
                  checker: FootprintChecker | None = None, bodies_meet: bool = True,
-                 state: WorldState | None = None):
+                 state: StateTable | None = None):
         """
         Make a world of the bodies of state (none by default); checker is the map's, if given.
 
@@ -55,7 +55,7 @@ class World:
         # number of bodies changes.
         self._step_rows, self._moves = np.empty((0, 7)), np.empty(0, dtype=bool)
         self._sample_spacing = occupancy_map.resolution / SAMPLES_PER_CELL
-        self.state = WorldState() if state is None else state
+        self.state = StateTable() if state is None else state
 
     @property
     def poses(self) -> np.ndarray:
@@ -187,7 +187,7 @@ def _column(values, count):
 
 
 # What the compiled step makes of each body: it moves, walls block it, or it is a polygon near
-# a wall that the World weighs (polygon_touches).
+# a wall that the Bodies weigh (polygon_touches).
 MOVES, BLOCKED, POLYGON_NEAR_WALL = 0, 1, 2
 
 
@@ -229,7 +229,7 @@ def _verdict(grid, x, y, heading, speed, turn, angular, radius, polygonal, dt, a
              sample_spacing):
     step_length = abs(speed) * dt
     if not (math.isfinite(step_length) and math.isfinite(angular)):
-        return BLOCKED  # no path to sample: the World used directly, unchecked
+        return BLOCKED  # no path to sample: the Bodies used directly, unchecked
     if not (speed != 0.0 or (polygonal and angular != 0.0)):
         return MOVES
     if clear_at(grid, x, y, step_length + radius):
