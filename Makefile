@@ -79,9 +79,10 @@ WARM_COMPILED := -c 'from stdr_lite.core.warm_up import compile_core; compile_co
 	from waypoint_lab.learning.task import compile_task; compile_task(); \
 	from courseworks.rays import warm_up; warm_up()'
 
+# The slowest tests are listed at the end: the suite is a budget (240 s of pytest here).
 test: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)
-	$(PYTHON) -m pytest
+	$(PYTHON) -m pytest --durations=15
 
 # A developer's minute: the unit and node tiers (make test stays the whole suite).
 test-quick: install $(VENV)/.test-dependencies
