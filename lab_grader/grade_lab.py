@@ -31,8 +31,8 @@ from lab_grader.grading import grade_course, PASS, RunEvidence, SubmissionVerdic
 from lab_grader.report_page import draw_course, markdown_report
 from lab_grader.reports import (classroom_result, gradescope_results, junit_xml, MARKS,
                                 RULES, terminal_table)
-from lab_grader.run_environment import (course_environment, PLACEHOLDER, RunSettings,
-                                        SEALED_DDS, submission_environment)
+from lab_grader.run_environment import (course_environment, middleware_problem, PLACEHOLDER,
+                                        RunSettings, SEALED_DDS, submission_environment)
 from lab_grader.sandbox import (CHOICES, choose_mode, describe_mode, DISK_MB, NAMESPACES,
                                 needed_paths, SandboxError, SandboxPolicy)
 from lab_grader.submission_process import sandbox_problem
@@ -46,8 +46,6 @@ from waypoint_lab.course import Course
 from waypoint_lab.rules import ANGLE_TOLERANCE, DISTANCE_TOLERANCE, TIME_LIMIT
 
 JOBS = Bounds(1, 32)
-# The middleware the evidence rules were built and tested on (Jazzy's default, the wheels' only).
-GRADED_RMW = 'rmw_fastrtps_cpp'
 MEMORY = Bounds(0, 1 << 20)
 DISK = Bounds(1, 1 << 16)
 MEMORY_MB = 4096
@@ -330,14 +328,25 @@ def sandbox_policy(options: argparse.Namespace, courses: list[Course], folder: P
     return sandbox
 
 
+def _report(options, command, verdicts, folder):
+    """Print the table, write the reports if asked; return the problems writing them met."""
+    print(terminal_table(verdicts))
+    if folder is None:
+        return []
+    problems = write_reports(options, command, verdicts, folder)
+    for problem in problems:
+        print(f'grade_lab: {problem}', file=sys.stderr)
+    if not problems:
+        print(f'reports in {folder}: report.md, junit.xml, results.json, classroom.json')
+    return problems
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = hide_arguments() if argv is None else list(argv)
     options, command = parse(argv)
-    rmw = os.environ.get('RMW_IMPLEMENTATION', '') or GRADED_RMW
-    if rmw != GRADED_RMW:
-        print(f'grade_lab: error: RMW_IMPLEMENTATION={rmw}: grade_lab grades on {GRADED_RMW} '
-              'alone (who publishes is told by its sockets and endpoints); unset it',
-              file=sys.stderr)
+    problem = middleware_problem(os.environ)
+    if problem:
+        print(f'grade_lab: error: {problem}', file=sys.stderr)
         return EXIT_BAD_INPUT
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     os.environ['ROS_STATIC_PEERS'] = ''
@@ -365,7 +374,6 @@ def main(argv: list[str] | None = None) -> int:
     become_subreaper()
     print(f'grade_lab: sandbox: {describe_mode(sandbox.mode, options.disk, sandbox.why)}',
           flush=True)
-    problems = []
     with tempfile.TemporaryDirectory(prefix='grade_lab-') as scratch:
         grading = Grading(options, command, courses, submissions, folder or Path(scratch),
                           guard, sandbox)
@@ -374,13 +382,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f'grade_lab: {len(courses)} course(s) x {len(submissions)} submission(s), '
               f'{options.jobs} at a time: {" ".join(command)}', flush=True)
         verdicts = grading.run()
-        print(terminal_table(verdicts))
-        if folder is not None:
-            problems = write_reports(options, command, verdicts, folder)
-            for problem in problems:
-                print(f'grade_lab: {problem}', file=sys.stderr)
-            if not problems:
-                print(f'reports in {folder}: report.md, junit.xml, results.json, classroom.json')
+        problems = _report(options, command, verdicts, folder)
     if grading.stopping.is_set():
         print('grade_lab: interrupted: courses not run are errors', file=sys.stderr)
     passed = all(verdict.status == PASS for verdict in verdicts)

@@ -168,6 +168,20 @@ class Judge:
                 if report.status.kind in (WAYPOINT, UNREACHABLE)
                 and report.status.number == number]
 
+    def _disorder(self, number, position):
+        """Say how goal number's report, at position among the statuses, is out of order."""
+        before = self.lab[position - 1].status if position else None
+        if number == 1:
+            in_order = before is not None and before.kind == STARTED
+        else:
+            in_order = before is not None and (before.kind, before.number) in (
+                (WAYPOINT, number - 1), (UNREACHABLE, number - 1))
+        if in_order:
+            return ''
+        said = 'first' if before is None else f'after {before.kind} {before.number or ""}'
+        expected = STARTED if number == 1 else self._report_name(number - 1)
+        return f'out of order: sent {said.strip()}, not after {expected}'
+
     def _goal(self, number):
         """
         Check goal number's report: WAYPOINT n once, in order, in the goal set, honest.
@@ -184,16 +198,9 @@ class Judge:
         if len(sent) > 1:
             return Check(name, False, f'sent {len(sent)} times')
         position, report = sent[0]
-        before = self.lab[position - 1].status if position else None
-        if number == 1:
-            in_order = before is not None and before.kind == STARTED
-        else:
-            in_order = before is not None and (before.kind, before.number) in (
-                (WAYPOINT, number - 1), (UNREACHABLE, number - 1))
-        if not in_order:
-            said = 'first' if before is None else f'after {before.kind} {before.number or ""}'
-            expected = STARTED if number == 1 else self._report_name(number - 1)
-            return Check(name, False, f'out of order: sent {said.strip()}, not after {expected}')
+        disorder = self._disorder(number, position)
+        if disorder:
+            return Check(name, False, disorder)
         if kind == UNREACHABLE:
             return self._given_up(name, report)
         waypoint = self.course.waypoints[number - 1]

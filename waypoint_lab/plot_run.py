@@ -42,7 +42,7 @@ def export_jsonl(run: Run, path: str | os.PathLike) -> None:
         stream.writelines(json.dumps(entry) + '\n' for entry in entries)
 
 
-def main(argv: list[str] | None = None) -> int:
+def _parser():
     parser = OneLineParser(
         prog='plot_run', description='Draw a recorded run as a PNG: the map, the path coloured '
         'by time, each waypoint with its goal circle and heading, the poses reported on '
@@ -62,7 +62,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--robot-radius', type=float, default=0.2,
                         help='footprint radius [m] (default 0.2)')
     parser.add_argument('--output', '-o', help='PNG to write (default: RECORD with .png)')
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
     output = args.output or os.path.splitext(args.record)[0] + '.png'
     try:
         if not RADIUS.contains(args.robot_radius):
