@@ -106,7 +106,7 @@ check-stdr: install $(VENV)/.test-dependencies
 # a reinstall each time cost 10-40 s and broke tools running from the venv meanwhile).
 PACKAGE_SOURCES := setup.py setup.cfg package.xml $(shell find simple_robot_control stdr_lite foxglove_live \
 	waypoint_lab waypoint_controller lab_grader courseworks coursework_answers config maps robots obstacles launch \
-	rviz resource stdr_resources waypoints scenarios -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
+	rviz resource sensor_files waypoints scenarios -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null)
 install: $(VENV)/.installed
 $(VENV)/.installed: $(VENV)/.dependencies $(VENV)/.interfaces $(PACKAGE_SOURCES)
 	rm -rf build

@@ -54,7 +54,7 @@ setup(
         (f'{SHARE}/scenarios', sorted(glob('scenarios/*.txt') + glob('scenarios/*.yaml'))),
         (f'{SHARE}/robots', sorted(glob('robots/*.yaml') + glob('robots/*.xml'))),
         *((f'{SHARE}/{folder}', sorted(glob(f'{folder}/*.xml')))
-          for folder in sorted(glob('stdr_resources/*'))),
+          for folder in sorted(glob('sensor_files/*'))),
         (f'{SHARE}/obstacles', sorted(glob('obstacles/*.yaml'))),
         (f'{SHARE}/config',
          sorted(glob('config/*.yaml') + glob('config/*.xml') + glob('config/*.json'))),

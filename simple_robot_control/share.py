@@ -7,9 +7,9 @@ import sys
 PACKAGE_NAME = 'simple_robot_control'
 BUNDLED_MAP = ('maps', 'lab_room.yaml')
 BUNDLED_ROBOT = ('robots', 'lab_robot.yaml')
-# Files robot files may include by name, in the layout of STDR's stdr_resources (laser_sensors/,
+# Files robot files may include by name, in the layout of STDR's resources folder (laser_sensors/,
 # range_sensors/); the ament marker folder resource/ is another thing.
-BUNDLED_RESOURCES = ('stdr_resources',)
+BUNDLED_RESOURCES = ('sensor_files',)
 
 
 def share_directory() -> str:
