@@ -168,30 +168,3 @@ def sensor_groups(entities: list, last_step_ns: int) -> list[tuple[PeriodicSched
     after = last_step_ns + 1
     return [(PeriodicSchedule(period_ns, after + (phase - after) % period_ns),
              list(members.items())) for (period_ns, phase), members in groups.items()]
-
-
-class AwaitedCommands:
-    """Lockstep: which robots have not yet answered the latest odometry with a command."""
-
-    def __init__(self):
-        self._awaited = set()
-
-    def expect(self, names: list[str]) -> None:
-        """From now on, wait for a command from each of names before stepping."""
-        self._awaited = set(names)
-
-    def answer(self, name: str) -> bool:
-        """Note that name answered; return whether its answer was awaited."""
-        if name not in self._awaited:
-            return False
-        self._awaited.discard(name)
-        return True
-
-    def keep_only(self, names: list[str]) -> None:
-        """Stop waiting for robots not among names (they are gone)."""
-        self._awaited &= set(names)
-
-    @property
-    def awaiting(self) -> bool:
-        """Whether some robot has not answered yet."""
-        return bool(self._awaited)

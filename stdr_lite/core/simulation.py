@@ -19,7 +19,7 @@ from simple_robot_control.occupancy_map import OccupancyMap
 from simple_robot_control.validation import compact, is_ros_name, ros_name_problem, shorten
 from stdr_lite.core.bodies import Bodies, PlacementError
 from stdr_lite.core.commands import CommandOutcome, HeldCommands
-from stdr_lite.core.entities import (AwaitedCommands, Category, NamespaceError, NANOSECONDS,
+from stdr_lite.core.entities import (Category, NamespaceError, NANOSECONDS,
                                      PeriodicSchedule, RequestError, sensors_of, SimulatedEntity,
                                      SimulationSettings)
 from stdr_lite.core.motion import motion_for, noisy_command
@@ -45,8 +45,7 @@ class Simulation(SimulationReadings):
 
     Each robot holds its last valid command until the next (as STDR does), or stops once the
     command is older than cmd_vel_timeout when that is positive; a moving obstacle keeps the
-    velocity it was given. For lockstep runs, awaited_commands keeps which robots have not yet
-    answered the latest odometry with a command.
+    velocity it was given.
     """
 
     def __init__(self, occupancy_map: OccupancyMap,
@@ -94,7 +93,6 @@ class Simulation(SimulationReadings):
         for entity in self.state.entities:
             entity.motion_noise = self._motion_noise(entity.name, entity.description)
         self.odometry_schedule = PeriodicSchedule(self._odometry_period_ns, 0)
-        self.awaited_commands = AwaitedCommands()
         self.sensing.restart(self.settings.sensor_seed, 0)
 
     def add_robot(self, entry: RobotEntry, spawned: bool = False, namespace: str = '') -> None:
@@ -158,7 +156,6 @@ class Simulation(SimulationReadings):
     def remove(self, name: str) -> None:
         """Take an entity out; the entities after it move down one row."""
         self.bodies.remove_body(self.state.index(name))
-        self.awaited_commands.answer(name)
 
     def teleport(self, name: str, pose: tuple[float, float, float]) -> None:
         """
@@ -313,7 +310,3 @@ class Simulation(SimulationReadings):
                                      f'{error}') from None
         self.terrain = terrain
         self._use(bodies)
-
-    def await_commands(self) -> None:
-        """Lockstep: from now on, wait for a command from every robot before stepping."""
-        self.awaited_commands.expect(self.robot_names)

@@ -167,6 +167,7 @@ class EntityServices:
     def _delete(self, request, response):
         self._entity(request.entity)
         self._simulation.remove(request.entity)
+        self._served.stepper.release()
         self._served.stepper.step_if_answered()
         yield from self._served.refresh_topics()
 

@@ -192,6 +192,7 @@ class StdrLite(GuardedNode):
 
         new_time says whether the clock went back to 0. A generator, for the request's job.
         """
+        self.stepper.release(everyone=new_time)
         if grid is not None:
             self._map = grid
             self._publish_map()

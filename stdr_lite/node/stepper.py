@@ -25,6 +25,8 @@ class Stepper:
     """
     Decides when to call step(), which advances one step and says whether odometry went out.
 
+    In lockstep it alone keeps which robots have not yet answered the latest odometry.
+
     publish_state() publishes the odometry of the current step again; odometry_subscribers()
     counts who listens to it.
     """
@@ -35,6 +37,7 @@ class Stepper:
         self.lockstep = lockstep
         self.answer_latencies = deque(maxlen=LATENCY_SAMPLES)
         self._simulation = simulation
+        self._awaited = set()
         self._step, self._publish_state = step, publish_state
         self._odometry_subscribers_now = odometry_subscribers
         self._requests = deque()
@@ -70,7 +73,7 @@ class Stepper:
         if state != SimulationState.STATE_PAUSED:
             while self._requests:
                 self._requests.popleft().set_result(False)
-        if resumed and self.lockstep and self._simulation.awaited_commands.awaiting:
+        if resumed and self.lockstep and self._awaited:
             self._publish_state()
             self._repeated_at = time.monotonic()
         self._wake()
@@ -100,24 +103,34 @@ class Stepper:
             if new_time:
                 self.await_answers()
             else:
-                self._simulation.awaited_commands.keep_only(self._simulation.robot_names)
+                self.release()
         self._wake()
+
+    def release(self, everyone: bool = False) -> None:
+        """
+        Lockstep: stop awaiting the robots that are gone, or everyone when time restarted.
+
+        Odometry from before a restart of time is void: an answer to it steps nothing.
+        """
+        self._awaited = set() if everyone else self._awaited & set(self._simulation.robot_names)
 
     def answered(self, name: str) -> None:
         """Lockstep: note a robot's command; step on once every robot has answered."""
-        if self._simulation.awaited_commands.answer(name):
+        if name in self._awaited:
+            self._awaited.discard(name)
             self.answer_latencies.append(time.monotonic() - self._published_at)
             self.step_if_answered()
 
     def step_if_answered(self) -> None:
         """Unpaced lockstep: run to the next published odometry once all have answered."""
         if self._step_on_answer:
-            while self.may_step() and not self._simulation.awaited_commands.awaiting:
+            while self.may_step() and not self._awaited:
                 if self._advance():
                     break
 
     def await_answers(self) -> None:
-        self._simulation.await_commands()
+        """Lockstep: from now on, wait for a command from every robot before stepping."""
+        self._awaited = set(self._simulation.robot_names)
         self._published_at = self._repeated_at = time.monotonic()
 
     def _advance(self):
@@ -139,7 +152,7 @@ class Stepper:
         self.step_if_answered()
 
     def _on_tick(self):
-        if self.may_step() and not self._simulation.awaited_commands.awaiting:
+        if self.may_step() and not self._awaited:
             self._advance()
 
     def _repeat_unanswered_state(self):
@@ -148,6 +161,6 @@ class Stepper:
         joined, self._odometry_subscribers = (subscribers > self._odometry_subscribers,
                                               subscribers)
         silent = time.monotonic() - self._repeated_at > LOCKSTEP_REPEAT_AFTER
-        if self.playing and self._simulation.awaited_commands.awaiting and (joined or silent):
+        if self.playing and self._awaited and (joined or silent):
             self._publish_state()
             self._repeated_at = time.monotonic()

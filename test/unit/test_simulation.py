@@ -1,4 +1,4 @@
-"""The simulation core: robots by name, held commands, sensor schedules, lockstep answers."""
+"""The simulation core: robots by name, held commands, sensor schedules."""
 
 from dataclasses import replace
 import math
@@ -147,17 +147,6 @@ def test_readings_see_walls_and_other_robots(room):
     scan, sonar = simulation.read_sensors([('a', LASER), ('a', SONAR)])
     assert scan[2] == pytest.approx(3.5 - 0.2 - 2.1, abs=1e-6)
     assert sonar == pytest.approx(3.5 - 0.2 - 2.1, abs=1e-6)
-
-
-def test_lockstep_waits_for_every_robot_once_and_never_for_an_obstacle(room):
-    simulation = Simulation(room, robots=[robot('a', 2.0), robot('b', 5.0)])
-    simulation.add_obstacle('rock', 0.3, (8.0, 2.0, 0.0))
-    assert not simulation.awaited_commands.awaiting
-    simulation.await_commands()
-    assert simulation.awaited_commands.answer('a') and simulation.awaited_commands.awaiting
-    assert not simulation.awaited_commands.answer('a')
-    simulation.remove('b')
-    assert not simulation.awaited_commands.awaiting
 
 
 def test_obstacles_block_robots_and_are_seen_by_sensors(room):
