@@ -2,14 +2,14 @@
 The lab's run on ROS, for any control law: what every controller of the lab does the same way.
 
 CourseRunner is a node that follows a course with a control law (lifecycle.py): it reads the
-robot's odometry, waits until it may start (discovery has had its grace, the map is in when the
-law plans around walls), answers every odometry stamp with exactly one cmd_vel (so a simulator
-in lockstep can count the answers), reports STARTED, WAYPOINT n, FINISHED and ABORTED on
-robot_status (reliable, transient local), publishes the course, ends the run on a stall, a
+robot's odometry, waits until it may start (start.py: discovery has had its grace, the map is in
+when the law plans around walls), answers every odometry stamp with exactly one cmd_vel (so a
+simulator in lockstep can count the answers), reports STARTED, WAYPOINT n, FINISHED and ABORTED
+on robot_status (reliable, transient local), publishes the course, ends the run on a stall, a
 teleport, a restarted simulator or a deleted robot, refuses to drive a robot another node
-already commands, and at the end stops the robot and delivers every status before it exits.
-A controller subclasses it and gives build_law(); waypoint_controller and policy_controller
-are two such.
+already commands, and at the end stops the robot and delivers every status before it exits. A
+controller subclasses it and gives build_law(); waypoint_controller and policy_controller are
+two such.
 """
 
 import argparse
@@ -42,18 +42,17 @@ from waypoint_lab.lifecycle import (ControlLaw, FunctionLaw, Outcome, Pose, RunL
                                     RunRules, STOP)
 from waypoint_lab.parameters import RUNNER_PARAMETERS
 from waypoint_lab.rules import COURSE_TOPIC, STATUS_TOPIC
+from waypoint_lab.start import StartConditions
 from waypoint_lab.waypoints import Waypoint
 
-# Wall-clock seconds. Odometry is held this long after the node is made, which covers discovery
-# nine times in ten (config/fastdds_quick_discovery.xml), to see who else commands the robot;
-# the runner stays ready to yield for the whole discovery time, so a slow discovery costs at
-# most a few seconds of two commanders rather than every run a wait. When the law plans around
-# walls and /map has a publisher, odometry is held on until the map is in (at most MAP_WAIT),
-# so the first plan already avoids the walls. Silence this long is worth a warning. At the end
-# of a run, readers known to the graph get what they need (see deliver_before_exit), unknown
-# ones as long as discovery may take; when interrupted, a moment.
+# Wall-clock seconds. Odometry is held this long after the node is made (start.py), which
+# covers discovery nine times in ten (config/fastdds_quick_discovery.xml), to see who else
+# commands the robot; the runner stays ready to yield for the whole discovery time, so a slow
+# discovery costs at most a few seconds of two commanders rather than every run a wait.
+# Silence this long is worth a warning. At the end of a run, readers known to the graph get
+# what they need (see deliver_before_exit), unknown ones as long as discovery may take; when
+# interrupted, a moment.
 FIRST_ANSWER_AFTER = SETTLED_FOR
-MAP_WAIT = 10.0
 NEWCOMER_FOR = DISCOVERY_TIME
 WATCH_PERIOD = 0.5
 ODOMETRY_SILENCE = 3.0
@@ -106,8 +105,7 @@ class CourseRunner(GuardedNode):
         self._pose = self._stamp = self._answered = None
         self._command = STOP
         self._started_at = self._odometry_at = time.monotonic()
-        self._mismatch_since = self._held = self._waiting = self._unready_since = None
-        self._has_map = self._map_given_up = False
+        self._mismatch_since = self._waiting = self._unready_since = None
         # The latest map's stamp (0: a map of no time, as a map server's).
         self.map_stamp_ns = 0
         self._status_publisher = self.create_publisher(String, STATUS_TOPIC,
@@ -119,10 +117,13 @@ class CourseRunner(GuardedNode):
                                            params.get('cmd_vel_stamped', False))
         self._odom_topic = self.create_subscription(Odometry, f'{robot}/odom',
                                                     self._on_odometry, 10).topic_name
-        self._uses_map = self.plans_around_walls()
         # A planner may take a mapper's growing map in place of the simulator's.
         self._map_topic = params.get('map_topic', '/map')
-        if self._uses_map:
+        uses_map = self.plans_around_walls()
+        self._start = StartConditions(
+            self._map_topic, (lambda: self.count_publishers(self._map_topic)) if uses_map
+            else None, self.get_logger().warn)
+        if uses_map:
             latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                                  durability=DurabilityPolicy.TRANSIENT_LOCAL)
             self.create_subscription(OccupancyGrid, self._map_topic, self._on_map, latched)
@@ -165,29 +166,15 @@ class CourseRunner(GuardedNode):
         """Discovery has had its grace: check that no one else commands the robot, then go."""
         self.destroy_timer(self._discovery)
         self._discovery = None
+        self._start.discovered()
         self._check_alone()
         self._release_held()
 
     def _release_held(self):
         """Answer the odometry held since start, once the runner may."""
-        if self._held is not None and self._may_start():
-            held, self._held = self._held, None
+        held = self._start.release()
+        if held is not None:
             self._on_odometry(held)
-
-    def _may_start(self):
-        """Whether discovery has had its grace and the walls are known, or cannot be."""
-        if self._discovery is not None:
-            return False
-        if (not self._uses_map or self._has_map or self._map_given_up
-                or self.count_publishers(self._map_topic) == 0):
-            return True
-        waited = time.monotonic() - self._started_at
-        if waited < MAP_WAIT:
-            return False
-        self._map_given_up = True
-        self.get_logger().warn(f'{self._map_topic} has a publisher but no map came in '
-                               f'{waited:.0f} s: driving without regard to walls until it does')
-        return True
 
     def _check_alone(self):
         """
@@ -214,16 +201,16 @@ class CourseRunner(GuardedNode):
         except MapError as error:
             self.get_logger().warn(f'ignoring {error}; planning without regard to walls',
                                    throttle_duration_sec=10.0)
-            self._map_given_up = True
+            self._start.map_unreadable()
             self._release_held()
             return
         self.map_stamp_ns = Time.from_msg(message.header.stamp).nanoseconds
         self.use_map(grid)
-        if not self._has_map:
+        if not self._start.has_map:
             self.get_logger().info(f'planning around the walls of {self._map_topic} '
                                    f'({grid.width} x {grid.height} cells of '
                                    f'{grid.resolution:g} m)')
-        self._has_map = True
+        self._start.map_came()
         self._release_held()
 
     def _on_odometry(self, message):
@@ -236,8 +223,8 @@ class CourseRunner(GuardedNode):
         if self.finished.done():
             return
         self._odometry_at = time.monotonic()
-        if not self.lifecycle.started and not self._may_start():
-            self._held = message
+        if not self.lifecycle.started and not self._start.may_start():
+            self._start.hold(message)
             return
         stamp = Time.from_msg(message.header.stamp).nanoseconds
         pose = pose_from_message(message.pose.pose)
