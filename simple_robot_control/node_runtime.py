@@ -69,32 +69,11 @@ def run(prog: str, parser: argparse.ArgumentParser, make_node: Callable,
     except rclpy_implementation.RCLInvalidROSArgsError as error:
         print(f'{prog}: error: bad --ros-args: {rcl_problem(error)}', file=sys.stderr)
         return EXIT_BAD_INPUT
-    ending = _Ending()
-    node = executor = None
+    running = _Running()
     code, leave_endpoints = EXIT_OK, False
     try:
-        # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with
-        # SIGINT then SIGTERM, so the handlers are ours whatever the parent set up. A signal
-        # from here on abandons the start (_Interrupted), even while the watch is being set up.
-        for signal_number in ENDING_SIGNALS:
-            signal.signal(signal_number, ending.on_signal)
-        watch = _watch_for_signals()
-        try:
-            rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-        except rclpy_implementation.RCLError as error:
-            raise ConfigError(f'cannot start ROS: {rcl_problem(error)}') from None
-        try:
-            node = make_node(options)
-        except NameValidationException as error:
-            raise ConfigError(f'{error} (check the --ros-args remappings)') from None
-        node.finished.add_done_callback(lambda _: ending.complete())
-        watch.allowance = getattr(node, 'ending_allowance', None)
-        executor = EventsExecutor()
-        executor.add_node(node)
-        ending.node_runs = True
-        while not ending.future.done():
-            executor.spin_until_future_complete(ending.future, timeout_sec=SIGNAL_CHECK_PERIOD)
-        code = node.finished.result() if node.finished.done() else EXIT_OK
+        running.start(argv, lambda: make_node(options))
+        code = running.spin()
     except ConfigError as error:
         print(f'{prog}: error: {error}', file=sys.stderr)
         code = EXIT_BAD_INPUT
@@ -105,6 +84,56 @@ def run(prog: str, parser: argparse.ArgumentParser, make_node: Callable,
         # it is touched again; the process just ends.
         _exit_now(EXIT_OK)
     finally:
+        leave_endpoints = running.tear_down()
+    if leave_endpoints:
+        _exit_now(code)
+    # With no node left, this deletes the DDS participant now, so peers see it go at once.
+    get_default_context().destroy()
+    return code
+
+
+class _Running:
+    """The node and its executor, as far as they were made: started, spun, taken down."""
+
+    def __init__(self):
+        self.ending = _Ending()
+        self.node = self.executor = None
+
+    def start(self, argv, make_node):
+        """Take the ending signals, start ROS, make the node (ConfigError if it cannot)."""
+        # A shell starts background jobs with SIGINT ignored and ros2 launch stops nodes with
+        # SIGINT then SIGTERM, so the handlers are ours whatever the parent set up. A signal
+        # from here on abandons the start (_Interrupted), even while the watch is being set up.
+        ending = self.ending
+        for signal_number in ENDING_SIGNALS:
+            signal.signal(signal_number, ending.on_signal)
+        watch = _watch_for_signals()
+        try:
+            rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+        except rclpy_implementation.RCLError as error:
+            raise ConfigError(f'cannot start ROS: {rcl_problem(error)}') from None
+        try:
+            self.node = node = make_node()
+        except NameValidationException as error:
+            raise ConfigError(f'{error} (check the --ros-args remappings)') from None
+        node.finished.add_done_callback(lambda _: ending.complete())
+        watch.allowance = getattr(node, 'ending_allowance', None)
+        self.executor = EventsExecutor()
+        self.executor.add_node(node)
+        ending.node_runs = True
+
+    def spin(self):
+        """Run the node until it finishes or a signal ends it; return the exit code."""
+        while not self.ending.future.done():
+            self.executor.spin_until_future_complete(self.ending.future,
+                                                     timeout_sec=SIGNAL_CHECK_PERIOD)
+        finished = self.node.finished
+        return finished.result() if finished.done() else EXIT_OK
+
+    def tear_down(self):
+        """Shut the node down; return whether its endpoints are left for the process's end."""
+        node, executor = self.node, self.executor
+        leave_endpoints = False
         if executor is not None:
             executor.remove_node(node)
             executor.shutdown()
@@ -114,11 +143,7 @@ def run(prog: str, parser: argparse.ArgumentParser, make_node: Callable,
             if not leave_endpoints:
                 node.destroy_node()
         rclpy.try_shutdown()
-    if leave_endpoints:
-        _exit_now(code)
-    # With no node left, this deletes the DDS participant now, so peers see it go at once.
-    get_default_context().destroy()
-    return code
+        return leave_endpoints
 
 
 def rcl_problem(error: Exception) -> str:

@@ -113,29 +113,38 @@ class StdrViewer(GuardedNode):
             if problem is not None:
                 raise ConfigError(f'screenshot {self._screenshot}: {problem}')
         pygame.font.init()
-        if surface is None:
-            if not any(os.environ.get(name) for name in DISPLAY_VARIABLES):
-                # SDL would look for a display it cannot have and say only 'XDG_RUNTIME_DIR'.
-                os.environ['SDL_VIDEODRIVER'] = 'dummy'
-                self.get_logger().warn(
-                    'no display here (DISPLAY is not set): drawing offscreen, no window; '
-                    '-p screenshot:=view.png saves the last frame on exit (ssh -X, or a '
-                    'desktop, shows the window)')
-            pygame.display.init()
-            surface = pygame.display.set_mode(size, pygame.RESIZABLE)
-            pygame.display.set_caption('stdr_viewer')
-            self._window = True
-        else:
-            self._window = False
-        self.surface = surface
+        self._window = surface is None
+        self.surface = self._open_window(size) if surface is None else surface
         self.scene = Scene(default_look=RobotLook(description.radius, {
             spec.frame_id: spec.pose for spec in description.lasers + description.sonars},
             description.points))
-        self.view = View(surface.get_size())
+        self.view = View(self.surface.get_size())
         self._painter = Painter(pygame.font.Font(None, 22))
         self._subscribed = {}
         self._frame_times = deque(maxlen=FRAME_TIMES)
         self._scene_shown = False
+        self._subscribe_world()
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self.create_timer(DISCOVERY_PERIOD, self.discover_robots, clock=steady)
+        self.create_timer(1.0 / params['fps'], self._on_frame, clock=steady)
+        self.discover_robots()
+
+    def _open_window(self, size):
+        """Open the window, or draw offscreen (saying so) where there is no display."""
+        if not any(os.environ.get(name) for name in DISPLAY_VARIABLES):
+            # SDL would look for a display it cannot have and say only 'XDG_RUNTIME_DIR'.
+            os.environ['SDL_VIDEODRIVER'] = 'dummy'
+            self.get_logger().warn(
+                'no display here (DISPLAY is not set): drawing offscreen, no window; '
+                '-p screenshot:=view.png saves the last frame on exit (ssh -X, or a '
+                'desktop, shows the window)')
+        pygame.display.init()
+        surface = pygame.display.set_mode(size, pygame.RESIZABLE)
+        pygame.display.set_caption('stdr_viewer')
+        return surface
+
+    def _subscribe_world(self):
+        """Subscribe to what holds for the whole world: map, mounts, markers, statuses."""
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(OccupancyGrid, '/map', self._on_map, latched)
@@ -148,10 +157,6 @@ class StdrViewer(GuardedNode):
                                 reliability=ReliabilityPolicy.RELIABLE,
                                 durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(String, 'robot_status', self._on_status, everything)
-        steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self.create_timer(DISCOVERY_PERIOD, self.discover_robots, clock=steady)
-        self.create_timer(1.0 / params['fps'], self._on_frame, clock=steady)
-        self.discover_robots()
 
     def discover_robots(self) -> None:
         """Subscribe to the topics of robots that appeared; forget those that went away."""
