@@ -19,6 +19,9 @@ from pathlib import Path
 # RTPS's well-known ports (the DDS interoperability wire protocol, 9.6.1.1): PB + DG * domain
 # and up, a participant's ports within the domain's DG.
 PORT_BASE, DOMAIN_GAIN = 7400, 250
+# What rmw says of an endpoint's node before the node's own announcement has come: a foul seen
+# that early is named without it (the run ends at once, it does not wait for the name).
+UNNAMED_NODE = '_NODE_NAME_UNKNOWN_'
 
 
 @dataclass(frozen=True)
@@ -134,7 +137,13 @@ def find_intruders(simulator_topics: Iterable[Publisher], simulator_gids: Iterab
     simulator_gids = {bytes(gid) for gid in simulator_gids}
     if outsiders:
         return Intruders([], list(outsiders))
-    return Intruders([f'{publisher.topic} was published by node {publisher.node!r} of the '
-                      'submission (only the simulator publishes it)'
+    return Intruders([f'{publisher.topic} was published by {_whose(publisher.node)} (only the '
+                      'simulator publishes it)'
                       for publisher in simulator_topics
                       if bytes(publisher.gid) not in simulator_gids], [])
+
+
+def _whose(node):
+    """Name the submission's node, or say the graph has not named it yet (rmw's placeholder)."""
+    return ('the submission (a node the graph had not named yet)' if UNNAMED_NODE in node
+            else f'node {node!r} of the submission')

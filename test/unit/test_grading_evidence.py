@@ -34,6 +34,13 @@ def test_only_the_simulators_own_endpoints_may_publish_on_its_topics():
     assert found.strangers == []
 
 
+def test_a_publisher_whose_node_is_not_yet_on_the_graph_is_said_so():
+    early = Publisher('/clock', '_NODE_NAMESPACE_UNKNOWN_/_NODE_NAME_UNKNOWN_', gid(3))
+    assert find_intruders([early], {gid(1)}, []).fouls == [
+        '/clock was published by the submission (a node the graph had not named yet) (only the '
+        'simulator publishes it)']
+
+
 def test_with_another_program_in_the_domain_nobody_is_blamed_and_it_is_named():
     found = find_intruders([Publisher('/clock', '/x', gid(3))], {gid(1)}, ['another (pid 9)'])
     assert found.fouls == [] and found.strangers == ['another (pid 9)']
