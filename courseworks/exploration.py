@@ -15,21 +15,8 @@ from dataclasses import dataclass
 from courseworks.grids import Grid, region_of
 from courseworks.judgement import Judgement
 from courseworks.mapping import Sight
+from courseworks.thresholds import ExplorationThresholds
 import numpy as np
-
-
-@dataclass(frozen=True)
-class ExplorationThresholds:
-    """
-    min_coverage: the fraction to see; of_reference: the share of the reference's figure.
-
-    reference_coverage is the reference explorer's figure on the scenario (bench/courseworks.py
-    prints it), written in the scenario's file; without it, all the reachable free space.
-    """
-
-    min_coverage: float = 0.0
-    of_reference: float = 0.8
-    reference_coverage: float = 1.0
 
 
 @dataclass(frozen=True)

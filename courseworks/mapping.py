@@ -22,6 +22,7 @@ import math
 from courseworks.grids import Grid, read_cells
 from courseworks.judgement import Judgement
 from courseworks.rays import cast_scan
+from courseworks.thresholds import MapThresholds
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import ndimage
@@ -54,17 +55,6 @@ class Sight:
     @property
     def seen(self) -> np.ndarray:
         return self.seen_free | self.seen_wall
-
-
-@dataclass(frozen=True)
-class MapThresholds:
-    """What a map must reach over the seen cells (fractions, 0 to 1)."""
-
-    min_agreement: float = 0.9
-    max_false_walls: float = 0.05
-    max_missed_walls: float = 0.2
-    min_coverage: float = 0.8
-    max_unseen: float = 0.1
 
 
 @dataclass(frozen=True)

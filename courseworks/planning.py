@@ -16,16 +16,10 @@ import math
 
 from courseworks.grids import Grid, inflate, path_lengths
 from courseworks.judgement import Judgement
+from courseworks.thresholds import PlanningThresholds
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import ndimage
-
-
-@dataclass(frozen=True)
-class PlanningThresholds:
-    """max_path_ratio: a leg's true length over the judge's optimum, at most."""
-
-    max_path_ratio: float = 1.5
 
 
 @dataclass(frozen=True)

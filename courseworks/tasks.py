@@ -8,10 +8,8 @@ threshold has a range with meaning (fractions from 0 to 1, a path ratio from 1).
 
 from dataclasses import fields, replace
 
-from courseworks.exploration import ExplorationThresholds
-from courseworks.mapping import MapThresholds
 from courseworks.names import EXPLORATION, MAPPING, PLANNING
-from courseworks.planning import PlanningThresholds
+from courseworks.thresholds import ExplorationThresholds, MapThresholds, PlanningThresholds
 from simple_robot_control.validation import Bounds, describe
 from waypoint_lab.rules import WAYPOINTS_TASK
 

@@ -8,13 +8,17 @@ submission's, and a grading with an error is not a pass either.
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from lab_grader.simulator_link import SpeedLimits
-from lab_grader.task_checks import judge_task, TaskPicture
 from lab_grader.verdicts import Check, Judge, ProcessOutcome
 from simple_robot_control.occupancy_map import OccupancyMap
 from waypoint_lab.course import Course
+from waypoint_lab.rules import WAYPOINTS_TASK
 from waypoint_lab.run import assemble_run, Run
+
+if TYPE_CHECKING:
+    from lab_grader.task_checks import TaskPicture
 
 PASS, FAIL, ERROR = 'pass', 'fail', 'error'
 
@@ -32,7 +36,7 @@ class CourseVerdict:
     folder: Path | None = None
     picture_problem: str = ''
     notes: tuple[str, ...] = ()
-    task_picture: TaskPicture | None = field(default=None, repr=False)
+    task_picture: 'TaskPicture | None' = field(default=None, repr=False)
     run: Run | None = field(default=None, repr=False)
 
     @property
@@ -109,7 +113,20 @@ def grade_course(course: Course, evidence: RunEvidence,
                          'again')
         return verdict
     judge = Judge(course, run, evidence.outcome, evidence.fouls, evidence.limits)
-    task_checks, verdict.task_picture = judge_task(course, run, evidence.submitted_map)
+    task_checks, verdict.task_picture = _judge_task(course, run, evidence.submitted_map)
     verdict.checks = judge.checks(task_checks)
     verdict.time_taken, verdict.path_length = judge.time_taken, judge.path_length
     return verdict
+
+
+def _judge_task(course, run, submitted_map):
+    """
+    Return the checks and picture a coursework's task adds; the lab's task adds none.
+
+    The courseworks' judges (scipy, numba: a second of import) load only where one is graded,
+    so a grading of the lab, or a command line refused, starts without them.
+    """
+    if course.task == WAYPOINTS_TASK:
+        return [], None
+    from lab_grader.task_checks import judge_task
+    return judge_task(course, run, submitted_map)

@@ -14,6 +14,8 @@ import ast
 from importlib import import_module
 from pathlib import Path
 import re
+import subprocess
+import sys
 
 from installed_executables import ENTRY_POINTS
 import pytest
@@ -266,3 +268,12 @@ def test_no_function_is_over_50_lines(path):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
             and node.end_lineno - node.lineno >= 50]
     assert not long, f'{name}: {long} over 50 lines'
+
+
+def test_grade_lab_and_the_course_reader_start_without_the_judges_libraries():
+    """A grading of the lab, or a refused command line, does not wait a second for scipy."""
+    probe = ('import sys, lab_grader.grade_lab, courseworks.courses\n'
+             "print(sorted({'scipy', 'numba', 'matplotlib'} & set(sys.modules)))")
+    loaded = subprocess.run([sys.executable, '-c', probe], capture_output=True, text=True,
+                            check=True).stdout
+    assert loaded.strip() == '[]'
