@@ -173,8 +173,9 @@ def test_a_burst_of_the_largest_requests_never_holds_the_clock(world, executor, 
     assert simulator.simulation.occupancy_map.width == 2000
     print(f'largest /clock gap during the burst: {gap * 1e3:.1f} ms')
     # The stalls this guards against lasted 3.7 to 14 s; a slice of a request lasts milliseconds,
-    # but stepping and publishing for 61 robots on a loaded 2-core machine adds up to ~0.2 s.
-    assert gap < 0.5
+    # but stepping and publishing for 61 robots on a loaded 2-core machine adds up: 25 ms alone,
+    # 526 ms once in the suite's three workers beside two busy loops (doc/robustness.md).
+    assert gap < 1.0
 
 
 def test_a_long_step_request_lets_the_node_serve_others(world, executor):
