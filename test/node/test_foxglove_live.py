@@ -244,17 +244,21 @@ def test_command_channels_are_bounded_kept_to_robots_that_exist_and_let_go(live,
         return enough
     for index in range(200):
         client.advertise(f'/ghost{index}/cmd_vel', 'geometry_msgs/msg/Twist')
-    spin_until(executor, refused(2), what='the ghosts refused')
+    # Refused at once, in order: once it is said, every ghost has been claimed or refused (as
+    # ghosts are let go, later ones take their places; the cap's refusal is said only once).
+    client.advertise('/marker', 'geometry_msgs/msg/Twist')
+    spin_until(executor, refused(3), what='the ghosts refused, then the marker')
     spin_until(executor, lambda: node.live.commands.claimed() == 1, what='the ghosts let go')
     client.advertise('/robot0/cmd_vel', 'geometry_msgs/msg/TwistStamped')
-    spin_until(executor, refused(3), what='a TwistStamped refused where a Twist is subscribed')
+    spin_until(executor, refused(4), what='a TwistStamped refused where a Twist is subscribed')
     said = ' | '.join(status['message'] for status in client.statuses)
-    assert len(client.statuses) == 3, said
+    assert len(client.statuses) == 4, said
     assert f'/ghost{PER_CLIENT - 1}/cmd_vel: a client may publish on {PER_CLIENT} channels at ' \
         'most (and any more like it)' in said
     assert '/ghost0/cmd_vel: nothing subscribes to it as geometry_msgs/msg/Twist (no such ' \
         'robot) (and any more like it)' in said
     assert '/robot0/cmd_vel: nothing subscribes to it as geometry_msgs/msg/TwistStamped' in said
+    assert '/marker: only */cmd_vel take messages from Foxglove' in said
     assert node.live.commands.publishers() == 1
     assert not sim_client.get_publishers_info_by_topic('/ghost0/cmd_vel')
     client.publish(channel, serialize_message(Twist(linear=Vector3(x=0.1))))
