@@ -92,7 +92,8 @@ def test_a_restarted_simulator_stops_the_controller(tmp_path, simulator):
     assert 'went back' in output and 'the simulator restarted; stopping the robot' in output
     # Reported at the new simulator's robot, where it starts: the held command moves it for as
     # long as the stop takes to come, a step or two (at most 1 rad/s: 1.15 degrees a step).
-    assert re.search(r'ABORTED (?:[1-9]|1[0-2]) 1\.0[0-4]\d 2\.000 -?[0-2]\.\d\d\n', output), output
+    aborted = r'ABORTED (?:[1-9]|1[0-2]) 1\.0[0-4]\d 2\.000 -?[0-2]\.\d\d\n'
+    assert re.search(aborted, output), output
 
 
 def test_the_controller_names_the_remapped_topic_while_odometry_is_absent(tmp_path):

@@ -14,8 +14,8 @@ from processes import (executable, run, signals_held, start, start_logged, stop,
 import pytest
 
 # Within a second on a quiet machine; beside two busy loops and the suite's other workers ends
-# took up to 1.67 s (doc/robustness.md says so): the suite checks what holds there.
-STOP_WITHIN = 2.0
+# took up to 3.28 s (doc/robustness.md says so): the suite checks what holds there.
+STOP_WITHIN = 4.0
 SIGNALS = [signal.SIGINT, signal.SIGTERM]
 
 
