@@ -14,6 +14,7 @@ import sys
 
 from nav_msgs.msg import MapMetaData, OccupancyGrid
 import rclpy
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
@@ -40,8 +41,10 @@ class MapCopier(Node):
             message.header.frame_id = 'map'
             message.data = array.array('b', bytes(HUGE * HUGE))
             self.publisher.publish(message)
+            # Delivered before this process ends, however loaded the machine (2 s once was not).
+            self.publisher.wait_for_all_acked(Duration(seconds=30))
             print(f'published a map of {HUGE}x{HUGE} cells', flush=True)
-            self.create_timer(2.0, lambda: self.done.set_result(True))
+            self.create_timer(1.0, lambda: self.done.set_result(True))
             return
         for path in bundled_files('maps').values():
             world = load_map(path)
