@@ -72,9 +72,9 @@ class RunWatch:
         """Raise Foul once the submission has sent more statuses than any honest run."""
         recorder = domain.recorder
         if recorder.flooded:
-            self.fouls.append(f'sent {recorder.sent_statuses} messages on robot_status, more '
-                              f'than {recorder.status_limit} (an honest run sends '
-                              f'{len(self._course.waypoints) + 2}): the run was ended there')
+            self.foul(f'sent {recorder.sent_statuses} messages on robot_status, more than '
+                      f'{recorder.status_limit} (an honest run sends '
+                      f'{len(self._course.waypoints) + 2}): the run was ended there')
             raise Foul(self.fouls[0])
 
     @staticmethod
