@@ -17,7 +17,8 @@ export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(abspath config/fastdds_quick_discover
 CACHE_DIR := $(or $(SIMPLE_ROBOT_CONTROL_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/simple_robot_control)
 TRAIN_VENV := $(CACHE_DIR)/train-venv-jax
 
-.PHONY: demo lab-session swarm scenario grade test test-quick test-unit test-node test-system check-stdr \
+.PHONY: demo lab-session swarm scenario grade test test-quick test-unit test-node test-system check-stdr fresh-linux \
+	test-without-ros \
 	bench train demo-policy install clean clean-cache
 
 demo: install
@@ -94,6 +95,22 @@ test-unit test-node test-system: install $(VENV)/.test-dependencies
 	$(PYTHON) $(WARM_COMPILED)
 	$(PYTHON) -m pytest test/$(@:test-%=%)
 
+# The ROS-free side as a Mac or Windows user installs it (doc/python.md): `pip install .` into a
+# venv of its own with no ROS wheel, where test/system/test_without_ros.py runs (the API, the
+# environments, the policy, the judges, plot_run, and the ROS executables' one line).
+NO_ROS_VENV := $(CACHE_DIR)/venv-without-ros
+test-without-ros:
+	rm -rf build "$(NO_ROS_VENV)" && python3 -m venv "$(NO_ROS_VENV)"
+	"$(NO_ROS_VENV)/bin/python" -m pip install --quiet --disable-pip-version-check . pytest
+	"$(NO_ROS_VENV)/bin/python" -m pytest --noconftest -o addopts= -p no:cacheprovider \
+		test/system/test_without_ros.py
+
+# Before a release: `make demo` as a newcomer runs it, on fresh Debian 12 and 13 root filesystems
+# (as root, with debootstrap; DISTRIBUTIONS names others): scripts/fresh_linux.sh.
+DISTRIBUTIONS ?=
+fresh-linux:
+	scripts/fresh_linux.sh $(DISTRIBUTIONS)
+
 # STDR's own robot files load unchanged: STDR_RESOURCES=<stdr_simulator>/stdr_resources/resources
 check-stdr: install $(VENV)/.test-dependencies
 	test -d "$(STDR_RESOURCES)/robots" || { echo 'check-stdr: set STDR_RESOURCES to the stdr_resources/resources folder of an stdr_simulator checkout' >&2; exit 2; }
@@ -120,9 +137,12 @@ $(VENV)/.interfaces: $(VENV)/.dependencies scripts/build_interfaces.sh requireme
 	touch $@
 
 # What the nodes need; the test tools (pytest, the linters, colcon, OMPL) only for the tests
-# and benchmarks, so that a first `make demo` installs what it runs and no more.
+# and benchmarks, so that a first `make demo` installs what it runs and no more. The system's
+# part is checked first (scripts/check_system.sh names what is missing); a venv left without
+# pip by an earlier failure is made again.
 $(VENV)/.dependencies: requirements/ros-jazzy.txt setup.py
-	test -x $(PYTHON) || python3 -m venv $(VENV)
+	@scripts/check_system.sh
+	$(PYTHON) -m pip --version >/dev/null 2>&1 || { rm -rf $(VENV) && python3 -m venv $(VENV); }
 	$(PIP) install --quiet --upgrade pip setuptools wheel 2> >(grep -v 'is ignored' >&2)
 	$(PIP) install --quiet -r requirements/ros-jazzy.txt . 2> >(grep -v 'is ignored' >&2)
 	touch $@

@@ -3,7 +3,8 @@
 # lockstep. course_monitor prints every robot_status message as it arrives with a progress line
 # and records the run; plot_run then draws it to run.png. The demo ends when the controller does
 # and exits with its code. VIEWER=1 also opens stdr_viewer to watch the run live; VIEWER=foxglove
-# serves it to Foxglove (foxglove_live) on localhost:${FOXGLOVE_PORT:-8765}, here or through ssh.
+# serves it to Foxglove (foxglove_live) on localhost:${FOXGLOVE_PORT:-8765}, here or through ssh
+# (FOXGLOVE_HOST=0.0.0.0 serves it on every interface: in a container, for a published port).
 set -euo pipefail
 : "${ROS_AUTOMATIC_DISCOVERY_RANGE:?must be LOCALHOST; run through make demo}"
 : "${ROS_DOMAIN_ID:?run through make demo}"
@@ -40,7 +41,8 @@ viewer=
 if [ "${VIEWER:-}" = foxglove ]; then
     # Its line (where to connect) shows once it serves; the controller starts after it.
     live_log=$(mktemp)
-    foxglove_live --ros-args -p port:="${FOXGLOVE_PORT:-8765}" --log-level warn \
+    foxglove_live --ros-args -p port:="${FOXGLOVE_PORT:-8765}" \
+        -p host:="${FOXGLOVE_HOST:-127.0.0.1}" --log-level warn \
         > >(tee "$live_log") 2>&1 &
     viewer=$!
     for _ in $(seq 100); do

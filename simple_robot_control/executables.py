@@ -10,28 +10,42 @@ to load), then takes the signals held since the interpreter's first lines (early
 so a signal in that second ends the program with exit code 0 and no traceback; the node runtime
 takes the signals over once the node runs. Then the ROS parameters of the command line are
 judged against the node's table (a light module), so a bad value is refused in a tenth of a
-second, before that load.
+second, before that load. An executable that needs ROS 2 says so in one line where this Python
+lacks it (the Python API, the environments, the judges and plot_run need none).
 """
 
 from dataclasses import dataclass
 from functools import partial
 import importlib
+import importlib.util
 import os
+import re
 import signal
 import sys
 from typing import Callable
 
 from simple_robot_control.early_parameters import early_problem
 from simple_robot_control.early_signals import release_signals
-from simple_robot_control.exit_codes import EXIT_BAD_INPUT
+from simple_robot_control.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED
+
+# ROS 2's Python modules (rclpy, rcl's, the interface packages), and where ROS 2 comes from,
+# said to whoever runs a ROS executable in a Python without them.
+ROS_MODULE = re.compile(r'^(rclpy|rcl_\w+|rosidl\w*|rpyutils|\w+_msgs|\w+_interfaces)(\.|$)')
+ROS_SOURCES = ('`make install` gives .venv the ROS 2 Jazzy wheels (Linux x86_64), a sourced Jazzy '
+               'install has it; elsewhere, the container (doc/install.md)')
 
 
 @dataclass(frozen=True)
 class Executable:
-    """An executable: the module of its main(), and its node's parameter table ('module:NAME')."""
+    """
+    An executable: the module of its main(), its node's parameter table ('module:NAME').
+
+    ros says whether it needs ROS 2 (rclpy) to run.
+    """
 
     module: str
     parameters: str = ''
+    ros: bool = True
 
     def parameter_table(self) -> tuple:
         """Return the ParameterSpecs of its node; () where it takes none."""
@@ -59,6 +73,22 @@ def _refuse_early(name, executable):
         os._exit(EXIT_BAD_INPUT)
 
 
+def _load(name, executable):
+    """Import the executable's module; where it needs ROS 2 and this Python lacks it, one line."""
+    try:
+        # Found, not loaded: a refused command line does not wait for rclpy.
+        if executable.ros and importlib.util.find_spec('rclpy') is None:
+            raise ModuleNotFoundError("No module named 'rclpy'", name='rclpy')
+        return importlib.import_module(executable.module)
+    except ModuleNotFoundError as error:
+        if not executable.ros or not ROS_MODULE.match(error.name or ''):
+            raise
+        print(f'{name}: error: needs ROS 2, and this Python has no module {error.name!r}: '
+              f'{ROS_SOURCES}', file=sys.stderr)
+        sys.stderr.flush()
+        os._exit(EXIT_FAILED)
+
+
 def _handle_signals(handler):
     for signal_number in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signal_number, handler)
@@ -79,7 +109,7 @@ def start(name: str, executable: Executable) -> None:
     _handle_signals(_end_at_once)
     release_signals()
     _refuse_early(name, executable)
-    module = importlib.import_module(executable.module)
+    module = _load(name, executable)
     _handle_signals(_leave_quietly)
     try:
         code = module.main()

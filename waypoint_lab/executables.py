@@ -5,7 +5,7 @@ from simple_robot_control.executables import entry_points, Executable
 EXECUTABLES = {
     'course_monitor': Executable('waypoint_lab.course_monitor',
                                  'waypoint_lab.parameters:COURSE_MONITOR_PARAMETERS'),
-    'plot_run': Executable('waypoint_lab.plot_run'),
+    'plot_run': Executable('waypoint_lab.plot_run', ros=False),
     'record_run': Executable('waypoint_lab.record_run',
                              'waypoint_lab.parameters:RECORD_RUN_PARAMETERS'),
     'policy_controller': Executable('waypoint_lab.learning.policy_controller',

@@ -72,6 +72,56 @@ def test_pure_modules_import_no_ros(path):
     assert not ros, f'{path.relative_to(REPOSITORY)} imports {ros}'
 
 
+# What runs where `pip install .` gives no ROS (doc/python.md): the Python API (stdr_lite's
+# names come from these, on first use), the environments, the policy, the judges, plot_run.
+ROS_FREE_DOORS = ('stdr_lite.core.loading', 'stdr_lite.core.simulation',
+                  'waypoint_lab.learning.waypoints_env', 'waypoint_lab.learning.vector_env',
+                  'waypoint_lab.learning.parallel_env', 'waypoint_lab.learning.numpy_policy',
+                  'courseworks.mapping', 'courseworks.exploration', 'courseworks.planning',
+                  'waypoint_lab.plot_run')
+
+
+def module_path(name):
+    """Return the file of one of our modules (a package's __init__.py), or None."""
+    base = REPOSITORY.joinpath(*name.split('.'))
+    for path in (base / '__init__.py', base.with_suffix('.py')):
+        if path.is_file():
+            return path
+    return None
+
+
+def imports_at_any_depth(name):
+    """Return every module our module name imports, itself or through ours, at any depth."""
+    found, waiting = set(), [name] + [name.rsplit('.', depth)[0]
+                                      for depth in range(1, name.count('.') + 1)]
+    while waiting:
+        path = module_path(waiting.pop())
+        if path is None:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0:
+                names = [node.module] + [f'{node.module}.{alias.name}' for alias in node.names]
+            else:
+                continue
+            # Importing a module imports the packages that hold it first.
+            parents = [name.rsplit('.', depth)[0] for name in names
+                       for depth in range(1, name.count('.') + 1)]
+            for imported in names + parents:
+                if imported not in found and (module_path(imported) or '.' not in imported
+                                              or ROS_CLIENT.match(imported)):
+                    found.add(imported)
+                    waiting.append(imported)
+    return found
+
+
+@pytest.mark.parametrize('door', ROS_FREE_DOORS)
+def test_the_doors_that_run_without_ros_import_none_at_any_depth(door):
+    ros = sorted(name for name in imports_at_any_depth(door) if ROS_CLIENT.match(name))
+    assert not ros, f'{door} imports {ros}'
+
+
 @pytest.mark.parametrize('path', modules('stdr_lite/core/*.py'), ids=str)
 def test_the_simulation_core_knows_nothing_of_nodes_viewer_or_tools(path):
     outward = [name for name in imported_modules(path)
