@@ -31,6 +31,13 @@ mirror_of() {
     esac
 }
 
+# A machine behind a TLS proxy (this one) trusts the proxy's certificate authority through
+# SSL_CERT_FILE or PIP_CERT: the roots are given the same trust, and nothing else of its own.
+trust=${PIP_CERT:-${SSL_CERT_FILE:-}}
+trust_environment=()
+[ -z "$trust" ] || trust_environment=(SSL_CERT_FILE=/etc/ssl/host-trust.pem
+                                      PIP_CERT=/etc/ssl/host-trust.pem)
+
 # In the root, as root, with a newcomer's environment (no pip configuration of this machine's).
 in_root() {
     unshare --mount --pid --fork --propagation private bash -c '
@@ -41,7 +48,7 @@ in_root() {
         mount --rbind /sys "$root/sys"
         exec chroot "$root" env -i HOME=/root LANG=C.UTF-8 TERM=dumb \
             PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin "$@"' \
-        in_root "$root" "$@"
+        in_root "$root" "${trust_environment[@]}" "$@"
 }
 
 seconds_since() {
@@ -68,6 +75,7 @@ for distribution in "${distributions[@]}"; do
         continue
     fi
     cp /etc/resolv.conf "$root/etc/resolv.conf"
+    [ -z "$trust" ] || cp "$trust" "$root/etc/ssl/host-trust.pem"
     git clone --quiet --no-hardlinks "$repository" "$root/root/simple_robot_control"
     echo "$distribution: root filesystem in $(seconds_since "$start") s" \
         "($(in_root python3 --version))"
