@@ -8,7 +8,7 @@
 set -euo pipefail
 : "${ROS_AUTOMATIC_DISCOVERY_RANGE:?must be LOCALHOST; run through make demo}"
 : "${ROS_DOMAIN_ID:?run through make demo}"
-share=$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control
+share=$(python3 -c 'from simple_robot_control.share import share_directory; print(share_directory())')
 course=${COURSE:-$share/waypoints/lab_tour.txt}
 speed=${REAL_TIME_FACTOR:-4.0}
 [[ $speed == *.* ]] || speed=$speed.0  # ROS wants a double parameter written as one

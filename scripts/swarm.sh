@@ -7,7 +7,7 @@
 set -euo pipefail
 : "${ROS_AUTOMATIC_DISCOVERY_RANGE:?must be LOCALHOST; run through make swarm}"
 : "${ROS_DOMAIN_ID:?run through make swarm}"
-share=$(python3 -c 'import sys; print(sys.prefix)')/share/simple_robot_control
+share=$(python3 -c 'from simple_robot_control.share import share_directory; print(share_directory())')
 screenshot=${SCREENSHOT:-swarm.png}
 # How long the viewer may take to show the run, on a slow or loaded machine (s).
 SHOW_WITHIN=${SHOW_WITHIN:-120}
