@@ -15,19 +15,21 @@ from installed_executables import EXECUTABLES
 from processes import executable
 import pytest
 from run_bags import write_run
+from simple_robot_control.executables import ROS_MODULE
 
-HIDE_ROS = """
+# ROS 2's modules as the executables tell them (simple_robot_control.executables.ROS_MODULE).
+HIDE_ROS = f"""
 import importlib.abc
 import re
 import sys
 
-ROS = re.compile(r'^(rclpy|rcl_\\w+|rosidl\\w*|rpyutils|\\w+_msgs|\\w+_interfaces)$')
+ROS = re.compile({ROS_MODULE.pattern!r})
 
 
 class HiddenRos(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path, target=None):
-        if ROS.match(name.split('.')[0]):
-            raise ModuleNotFoundError(f'No module named {name!r}', name=name)
+        if ROS.match(name):
+            raise ModuleNotFoundError(f'No module named {{name!r}}', name=name)
         return None
 
 
